@@ -1,0 +1,34 @@
+// RGB float images and their files. Every image read or written goes through OpenImageIO;
+// writes go to a temporary file that is renamed into place, so a failed render leaves nothing.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/color.h"
+#include "core/error.h"
+
+namespace ml {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<RGB> pixels;  // row-major, top row first
+    // True when the file held 8-bit (or other low-precision integer) values, which are usually
+    // sRGB-encoded; the values here are as stored, scaled to [0, 1], not linearised.
+    bool low_dynamic_range = false;
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), pixels(size_t(w) * h) {}
+    RGB& at(int x, int y) { return pixels[size_t(y) * width + x]; }
+    const RGB& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+};
+
+// Reads any format OpenImageIO knows (grey images come back as equal RGB); throws InputError
+// at `loc` when the file is missing or unreadable.
+Image read_image(const std::string& path, const FileLoc& loc = {});
+
+// Writes by extension: .exr (half float), .pfm (float), .png/.jpg (tone-mapped: clamped, sRGB).
+// Throws std::runtime_error on failure; a failed write leaves no file behind.
+void write_image(const std::string& path, const Image& image);
+
+}  // namespace ml

@@ -1,0 +1,47 @@
+// Triangle meshes in world space, structure-of-arrays. Every shape becomes one: spheres and disks
+// are tessellated finely (with analytic shading normals), PLY and trianglemesh are read as given.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/math.h"
+
+namespace ml {
+
+class Material;
+class Light;
+
+struct TriangleMesh {
+    std::vector<Vec3> p;         // positions, world space
+    std::vector<Vec3> n;         // per-vertex shading normals, world space (empty: none)
+    std::vector<Vec2> uv;        // per-vertex texture coordinates (empty: none)
+    std::vector<uint32_t> indices;  // 3 per triangle
+    // Flips the geometric normal (pbrt's ReverseOrientation xor a handedness-swapping transform).
+    bool flip_normals = false;
+    const Material* material = nullptr;
+    const Light* area_light = nullptr;  // set when the mesh emits
+
+    size_t triangle_count() const { return indices.size() / 3; }
+    float triangle_area(size_t tri) const {
+        const Vec3& a = p[indices[3 * tri]];
+        const Vec3& b = p[indices[3 * tri + 1]];
+        const Vec3& c = p[indices[3 * tri + 2]];
+        return 0.5f * length(cross(b - a, c - a));
+    }
+    // Geometric normal of a triangle, with flip_normals applied (unnormalised when degenerate).
+    Vec3 triangle_normal(size_t tri) const {
+        const Vec3& a = p[indices[3 * tri]];
+        const Vec3& b = p[indices[3 * tri + 1]];
+        const Vec3& c = p[indices[3 * tri + 2]];
+        Vec3 ng = normalize(cross(b - a, c - a));
+        return flip_normals ? -ng : ng;
+    }
+    Bounds3 bounds() const {
+        Bounds3 b;
+        for (const Vec3& q : p) b.expand(q);
+        return b;
+    }
+};
+
+}  // namespace ml

@@ -1,0 +1,79 @@
+// Lights. sample_li/pdf_li serve next-event estimation at a shading point (pdfs over solid angle
+// at the receiver); sample_le/pdf_le serve paths started at lights (position and direction pdfs
+// apart); power() serves power-based light selection.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "core/color.h"
+#include "core/math.h"
+
+namespace ml {
+
+enum class LightType {
+    DeltaPosition,   // point, spot
+    DeltaDirection,  // distant
+    Area,            // diffuse emitters on meshes
+    Infinite,        // environment (constant or image)
+};
+inline bool is_delta_light(LightType t) {
+    return t == LightType::DeltaPosition || t == LightType::DeltaDirection;
+}
+
+struct LightSampleContext {
+    Vec3 p;   // receiving point
+    Vec3 ng;  // its geometric normal (zero if none)
+    Vec3 ns;  // its shading normal (zero if none)
+};
+
+struct LightLiSample {
+    RGB L;                    // radiance (or, for delta lights, intensity / distance^2)
+    Vec3 wi;                  // unit direction from the receiver towards the light
+    float pdf_solid_angle = 0;  // for delta lights: 1 (a discrete choice)
+    Vec3 p_light;             // point on the light (for infinite/distant: far along wi)
+    Vec3 n_light;             // normal there (zero for point-like lights)
+};
+
+struct LightLeSample {
+    RGB L;            // emitted radiance along the ray
+    Ray ray;          // origin on the light, unit direction
+    Vec3 n_light;     // surface normal at the origin (zero for points and directions)
+    float pdf_pos = 0;  // area density of the origin (1 for delta positions)
+    float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
+};
+
+class Light {
+public:
+    virtual ~Light() = default;
+    virtual LightType type() const = 0;
+
+    // Scene-wide set-up once the scene's bounds are known (distant and infinite lights).
+    virtual void preprocess(const Bounds3& scene_bounds) {}
+
+    virtual std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
+                                                   const Vec2& u) const = 0;
+    // Solid-angle density at ctx of sample_li choosing direction wi that reaches the light at
+    // p_light with normal n_light (area lights); infinite lights use wi alone; delta lights: 0.
+    virtual float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
+                         const Vec3& n_light) const = 0;
+
+    // Area lights: radiance leaving point p (normal n, texture coords uv) in direction w.
+    virtual RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const {
+        return RGB();
+    }
+    // Infinite lights: radiance arriving along a ray that escapes the scene.
+    virtual RGB radiance_escaped(const Ray& ray) const { return RGB(); }
+
+    virtual std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const = 0;
+    // Densities of sample_le producing `ray` (from a point with normal n_light on the light).
+    virtual void pdf_le(const Ray& ray, const Vec3& n_light, float* pdf_pos,
+                        float* pdf_dir) const = 0;
+
+    // Total emitted power (flux), RGB.
+    virtual RGB power() const = 0;
+
+    int index = -1;  // position in the scene's light list, set by the scene
+};
+
+}  // namespace ml

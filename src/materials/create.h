@@ -1,0 +1,33 @@
+// Factories for the scene's `Texture` and material directives: each consumes its parameters
+// from the list (unknown ones are left for ParameterList::check_unused to report).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "film/image.h"
+#include "materials/material.h"
+#include "materials/texture.h"
+#include "scene/params.h"
+
+namespace ml {
+
+// Images loaded once per scene and shared by every texture that names them.
+struct ImageCache {
+    std::map<std::string, std::shared_ptr<const Image>> images;
+    std::shared_ptr<const Image> get(const std::string& path, const FileLoc& loc);
+};
+
+// `Texture "name" "float"|"spectrum" "class" params...`; adds it to `textures`. Relative file
+// names resolve against `base_dir`.
+void create_texture(const std::string& name, const std::string& kind, const std::string& cls,
+                    const ParameterList& params, const std::string& base_dir,
+                    NamedTextures& textures, ImageCache& images, const FileLoc& loc);
+
+// `Material "type" params...` / `MakeNamedMaterial` with "string type". Throws InputError for an
+// unknown type or an undefined texture.
+std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
+                                          const NamedTextures& textures, const FileLoc& loc);
+
+}  // namespace ml

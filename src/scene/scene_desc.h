@@ -1,0 +1,40 @@
+// What the pbrt-v4 parser produces: world-space meshes with their materials and area lights,
+// the other lights, and the header directives (camera, film, sampler, filter, integrator) as
+// parameter lists for the renderer to consume (and to override from the command line).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry/mesh.h"
+#include "lights/light.h"
+#include "materials/material.h"
+#include "materials/texture.h"
+#include "scene/params.h"
+
+namespace ml {
+
+struct SceneEntity {
+    std::string name;  // e.g. "perspective", "rgb", "sobol", "gaussian", "path"; empty if absent
+    ParameterList params;
+    FileLoc loc;
+};
+
+struct SceneDesc {
+    SceneEntity camera, film, sampler, filter, integrator;
+    Transform world_to_camera;  // the CTM at the Camera directive
+    std::vector<std::unique_ptr<TriangleMesh>> meshes;
+    std::vector<std::unique_ptr<Material>> materials;  // owned; meshes point into them
+    std::vector<std::unique_ptr<Light>> lights;        // every light, area lights included
+    NamedTextures textures;
+    std::string base_dir;  // directory of the main scene file
+};
+
+// Parses a pbrt-v4 scene file (and what it includes). Throws InputError with file:line:col.
+SceneDesc parse_scene_file(const std::string& path);
+// Parses scene text held in memory; `name` stands for the file in error messages.
+SceneDesc parse_scene_string(const std::string& text, const std::string& base_dir,
+                             const std::string& name = "<string>");
+
+}  // namespace ml
