@@ -13,7 +13,8 @@ struct TriangleMesh;
 
 struct SurfaceInteraction {
     Vec3 p;              // hit point, world space
-    Vec3 ng;             // geometric normal (unit), oriented per the mesh winding and flip
+    Vec3 ng;             // geometric normal (unit): towards ns if the mesh has normals, else
+                         // per the winding and flip_normals (pbrt-v4's convention)
     Vec3 ns;             // shading normal (unit), in the hemisphere of ng
     Vec3 dpdu, dpdv;     // position derivatives with respect to uv
     Vec2 uv;             // texture coordinates

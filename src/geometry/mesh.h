@@ -29,12 +29,13 @@ struct TriangleMesh {
         const Vec3& c = p[indices[3 * tri + 2]];
         return 0.5f * length(cross(b - a, c - a));
     }
-    // Geometric normal of a triangle, with flip_normals applied (unnormalised when degenerate).
+    // Geometric normal of a triangle: the side it faces is, as in pbrt-v4, the side of the
+    // per-vertex normals when the mesh has them, else the winding's flipped by flip_normals.
+    // This is the side one-sided area lights emit from.
     Vec3 triangle_normal(size_t tri) const {
-        const Vec3& a = p[indices[3 * tri]];
-        const Vec3& b = p[indices[3 * tri + 1]];
-        const Vec3& c = p[indices[3 * tri + 2]];
-        Vec3 ng = normalize(cross(b - a, c - a));
+        uint32_t i0 = indices[3 * tri], i1 = indices[3 * tri + 1], i2 = indices[3 * tri + 2];
+        Vec3 ng = normalize(cross(p[i1] - p[i0], p[i2] - p[i0]));
+        if (!n.empty()) return face_forward(ng, n[i0] + n[i1] + n[i2]);
         return flip_normals ? -ng : ng;
     }
     Bounds3 bounds() const {

@@ -1,0 +1,54 @@
+#include "film/film.h"
+
+namespace ml {
+
+Film::Film(int width, int height, float max_component_value)
+    : m_width(width),
+      m_height(height),
+      m_max_component(max_component_value),
+      m_pixels(size_t(width) * height),
+      m_splats(size_t(width) * height * 3) {
+    clear();
+}
+
+void Film::clear() {
+    for (Pixel& p : m_pixels) p = Pixel();
+    for (auto& s : m_splats) s.store(0.f, std::memory_order_relaxed);
+}
+
+void Film::add_sample(Point2i p, RGB L, float weight) {
+    // Drop what cannot be a radiance (a NaN would poison the pixel) and clamp, if asked, as
+    // pbrt's "maxcomponentvalue" does.
+    if (!L.is_finite()) return;
+    float m = L.max_component();
+    if (m > m_max_component) L *= m_max_component / m;
+    Pixel& px = m_pixels[size_t(p.y) * m_width + p.x];
+    px.rgb[0] += double(L.r) * weight;
+    px.rgb[1] += double(L.g) * weight;
+    px.rgb[2] += double(L.b) * weight;
+    px.weight += weight;
+}
+
+void Film::add_splat(const Vec2& p_film, RGB v) {
+    int x = int(std::floor(p_film.x)), y = int(std::floor(p_film.y));
+    if (x < 0 || y < 0 || x >= m_width || y >= m_height || !v.is_finite()) return;
+    size_t i = (size_t(y) * m_width + x) * 3;
+    for (int c = 0; c < 3; ++c) m_splats[i + c].fetch_add(v[c], std::memory_order_relaxed);
+}
+
+Image Film::to_image(float splat_scale) const {
+    Image img(m_width, m_height);
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const Pixel& p = m_pixels[i];
+        RGB c;
+        if (p.weight != 0)
+            c = RGB(float(p.rgb[0] / p.weight), float(p.rgb[1] / p.weight),
+                    float(p.rgb[2] / p.weight));
+        for (int k = 0; k < 3; ++k)
+            c[k] += splat_scale * m_splats[3 * i + k].load(std::memory_order_relaxed);
+        img.pixels[i] = c;
+    }
+    return img;
+}
+
+}  // namespace ml

@@ -1,0 +1,38 @@
+// The film: per-pixel weighted sums of radiance (filter-importance-sampled camera samples land
+// in their own pixel) plus a splat buffer for samples that may land anywhere (light tracing).
+#pragma once
+
+#include <atomic>
+#include <vector>
+
+#include "core/color.h"
+#include "film/image.h"
+#include "sampling/sampler.h"
+
+namespace ml {
+
+class Film {
+public:
+    Film(int width, int height, float max_component_value = kInfinity);
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    // Adds a camera sample of pixel p; only the thread rendering p calls this for p.
+    void add_sample(Point2i p, RGB L, float weight);
+    // Adds a contribution at a raster position from any thread (atomic).
+    void add_splat(const Vec2& p_film, RGB v);
+    // The image: weighted mean per pixel, plus splats times `splat_scale`.
+    Image to_image(float splat_scale = 1.f) const;
+    void clear();
+
+private:
+    struct Pixel {
+        double rgb[3] = {0, 0, 0};
+        double weight = 0;
+    };
+    int m_width, m_height;
+    float m_max_component;
+    std::vector<Pixel> m_pixels;
+    std::vector<std::atomic<float>> m_splats;  // 3 per pixel
+};
+
+}  // namespace ml

@@ -1,0 +1,149 @@
+#include "geometry/embree_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <stdexcept>
+
+#include "core/stats.h"
+
+namespace ml {
+
+struct EmbreeScene::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+};
+
+EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
+    : m_impl(std::make_unique<Impl>()), m_meshes(meshes) {
+    m_impl->device = rtcNewDevice("verbose=0");
+    if (!m_impl->device) throw std::runtime_error("Embree: cannot create a device");
+    m_impl->scene = rtcNewScene(m_impl->device);
+    rtcSetSceneBuildQuality(m_impl->scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(m_impl->scene, RTC_SCENE_FLAG_ROBUST);
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        const TriangleMesh& m = *meshes[i];
+        RTCGeometry g = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Shared buffers: Embree reads our arrays in place (it needs 16 bytes of padding after
+        // the last vertex, which std::vector's growth gives no promise of, so copy positions).
+        float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.p.size()));
+        for (size_t k = 0; k < m.p.size(); ++k) {
+            vb[3 * k] = m.p[k].x;
+            vb[3 * k + 1] = m.p[k].y;
+            vb[3 * k + 2] = m.p[k].z;
+            m_bounds.expand(m.p[k]);
+        }
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                   m.indices.data(), 0, 3 * sizeof(uint32_t),
+                                   m.triangle_count());
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(m_impl->scene, g, unsigned(i));
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(m_impl->scene);
+}
+
+EmbreeScene::~EmbreeScene() {
+    if (m_impl->scene) rtcReleaseScene(m_impl->scene);
+    if (m_impl->device) rtcReleaseDevice(m_impl->device);
+}
+
+bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x;
+    rh.ray.org_y = ray.o.y;
+    rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x;
+    rh.ray.dir_y = ray.d.y;
+    rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = 0.f;
+    rh.ray.tfar = ray.tmax;
+    rh.ray.time = ray.time;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_impl->scene, &ctx, &rh);
+    stats::count_ray();
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    fill_interaction(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar,
+                     Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), si);
+    return true;
+}
+
+bool EmbreeScene::occluded(const Ray& ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.tnear = 0.f;
+    r.tfar = ray.tmax;
+    r.time = ray.time;
+    r.mask = 0xffffffffu;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(m_impl->scene, &ctx, &r);
+    stats::count_shadow_ray();
+    return r.tfar < 0.f;
+}
+
+void EmbreeScene::fill_interaction(const Ray& ray, unsigned geom_id, unsigned prim_id, float u,
+                                   float v, float t, const Vec3& ng_embree,
+                                   SurfaceInteraction* si) const {
+    const TriangleMesh& m = *m_meshes[geom_id];
+    uint32_t i0 = m.indices[3 * prim_id], i1 = m.indices[3 * prim_id + 1],
+             i2 = m.indices[3 * prim_id + 2];
+    float w = 1.f - u - v;
+    const Vec3 &p0 = m.p[i0], &p1 = m.p[i1], &p2 = m.p[i2];
+    // Interpolate the position from the vertices rather than o + t d: more accurate.
+    si->p = p0 * w + p1 * u + p2 * v;
+    si->t = t;
+    si->time = ray.time;
+    si->wo = -ray.d;
+    // Our winding convention: ng = (p1 - p0) x (p2 - p0), flipped by flip_normals.
+    Vec3 ng = cross(p1 - p0, p2 - p0);
+    float l = length(ng);
+    ng = l > 0 ? ng / l : normalize(ng_embree);
+    if (m.flip_normals) ng = -ng;
+    // Texture coordinates default to pbrt's (0,0), (1,0), (1,1) per triangle.
+    Vec2 uv0(0, 0), uv1(1, 0), uv2(1, 1);
+    if (!m.uv.empty()) uv0 = m.uv[i0], uv1 = m.uv[i1], uv2 = m.uv[i2];
+    si->uv = uv0 * w + uv1 * u + uv2 * v;
+    // dp/du and dp/dv from the uv parameterisation (pbrt's Triangle::InteractionFromIntersection).
+    Vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+    Vec3 dp02 = p0 - p2, dp12 = p1 - p2;
+    float det = duv02.x * duv12.y - duv02.y * duv12.x;
+    bool degenerate = std::abs(det) < 1e-9f;
+    if (!degenerate) {
+        float inv = 1.f / det;
+        si->dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
+        si->dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
+        degenerate = length_squared(cross(si->dpdu, si->dpdv)) == 0.f;
+    }
+    if (degenerate) coordinate_system(ng, &si->dpdu, &si->dpdv);
+    if (!m.n.empty()) {
+        Vec3 ns = m.n[i0] * w + m.n[i1] * u + m.n[i2] * v;
+        float ls = length_squared(ns);
+        ns = ls > 0 ? ns / std::sqrt(ls) : ng;
+        // As in pbrt-v4, the shading normals are authoritative for orientation.
+        si->ns = ns;
+        si->ng = face_forward(ng, ns);
+    } else {
+        si->ns = si->ng = ng;
+    }
+    si->material = m.material;
+    si->area_light = m.area_light;
+    si->mesh = &m;
+    si->mesh_id = geom_id;
+    si->prim_id = prim_id;
+}
+
+}  // namespace ml

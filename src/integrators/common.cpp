@@ -1,0 +1,39 @@
+#include "integrators/common.h"
+
+#include "lights/light_sampler.h"
+
+namespace ml {
+
+RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction* hit,
+                   bool full_weight, float prev_pdf, const LightSampleContext& prev_ctx,
+                   const LightSampler* light_sampler) {
+    auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
+        if (full_weight) return Le;
+        float pmf = light_sampler ? light_sampler->pmf(light) : 1.f;
+        return Le * power_heuristic(prev_pdf, pmf * light->pdf_li(prev_ctx, ray.d, p, n));
+    };
+    RGB L;
+    if (!hit) {
+        for (const Light* light : scene.infinite_lights()) {
+            RGB Le = light->radiance_escaped(ray);
+            if (!Le.is_black()) L += weighted(light, Le, Vec3(), Vec3());
+        }
+    } else if (hit->area_light) {
+        RGB Le = hit->area_light->radiance(hit->p, hit->ng, hit->uv, hit->wo);
+        if (!Le.is_black()) L = weighted(hit->area_light, Le, hit->p, hit->ng);
+    }
+    return L;
+}
+
+RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
+                    const Light& light, const Vec2& u_light, bool mis) {
+    auto ls = light.sample_li(light_context(si), u_light);
+    if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return RGB();
+    RGB f = bsdf.eval(si.wo, ls->wi) * abs_dot(ls->wi, si.ns);
+    if (f.is_black() || !scene.visible(si, ls->p_light)) return RGB();
+    if (!mis || is_delta_light(light.type())) return f * ls->L / ls->pdf_solid_angle;
+    float w = power_heuristic(ls->pdf_solid_angle, bsdf.pdf_solid_angle(si.wo, ls->wi));
+    return f * ls->L * (w / ls->pdf_solid_angle);
+}
+
+}  // namespace ml

@@ -1,0 +1,52 @@
+// The integrator interface and the per-pixel driver most integrators share.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "camera/camera.h"
+#include "core/progress.h"
+#include "core/scratch.h"
+#include "film/film.h"
+#include "film/filter.h"
+#include "sampling/sampler.h"
+#include "scene/scene.h"
+
+namespace ml {
+
+struct RenderContext {
+    const Scene& scene;
+    const PerspectiveCamera& camera;
+    const Filter& filter;
+    Film& film;
+    const Sampler& sampler;  // prototype: cloned per thread
+    int spp = 16;            // samples per pixel (the cap when time_limit > 0)
+    double time_limit = 0;   // seconds; > 0 renders progressively until spent
+    Progress* progress = nullptr;
+};
+
+struct RenderResult {
+    int spp = 0;  // samples per pixel actually taken
+};
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    virtual std::string name() const = 0;
+    virtual RenderResult render(const RenderContext& ctx) = 0;
+};
+
+// Integrators that estimate radiance along camera rays, one pixel sample at a time. Pixels are
+// rendered in tiles in parallel; each pixel's samples are taken in index order by one thread,
+// so the image is the same for any thread count and schedule.
+class PixelIntegrator : public Integrator {
+public:
+    RenderResult render(const RenderContext& ctx) override;
+    // Called once before rendering (after the scene is ready).
+    virtual void prepare(const Scene& scene) {}
+    // Radiance arriving along `ray`.
+    virtual RGB li(const Ray& ray, const Scene& scene, Sampler& sampler,
+                   ScratchBuffer& scratch) const = 0;
+};
+
+}  // namespace ml

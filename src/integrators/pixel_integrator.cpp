@@ -1,0 +1,83 @@
+#include <tbb/blocked_range2d.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+#include "core/stats.h"
+#include "integrators/integrator.h"
+
+namespace ml {
+
+namespace {
+
+struct ThreadState {
+    std::unique_ptr<Sampler> sampler;
+    ScratchBuffer scratch;
+};
+
+}  // namespace
+
+RenderResult PixelIntegrator::render(const RenderContext& ctx) {
+    prepare(ctx.scene);
+    const int w = ctx.film.width(), h = ctx.film.height();
+    tbb::enumerable_thread_specific<ThreadState> states(
+        [&] { return ThreadState{ctx.sampler.clone(), ScratchBuffer()}; });
+    auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+
+    // Passes of samples [s0, s1): one pass for a fixed count; doubling passes under a time
+    // limit, each started only if it is expected to end in time.
+    int done = 0;
+    int pass_spp = ctx.time_limit > 0 ? 1 : ctx.spp;
+    std::atomic<int64_t> rows_done{0};
+    const int64_t total_rows = int64_t(h) * ctx.spp;
+    while (done < ctx.spp) {
+        int s0 = done, s1 = std::min(ctx.spp, done + pass_spp);
+        double pass_start = elapsed();
+        tbb::parallel_for(
+            tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
+                ThreadState& ts = states.local();
+                Sampler& sampler = *ts.sampler;
+                for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+                    for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+                        Point2i pixel{x, y};
+                        for (int s = s0; s < s1; ++s) {
+                            sampler.start_pixel_sample(pixel, s);
+                            FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
+                            CameraSample cs;
+                            cs.p_film = Vec2(x + 0.5f + fs.p.x, y + 0.5f + fs.p.y);
+                            cs.time = sampler.get_1d();
+                            cs.p_lens = sampler.get_2d();
+                            Ray ray = ctx.camera.generate_ray(cs);
+                            stats::count_camera_ray();
+                            RGB L = li(ray, ctx.scene, sampler, ts.scratch);
+                            ctx.film.add_sample(pixel, L, fs.weight);
+                            ts.scratch.reset();
+                        }
+                    }
+                    if (ctx.progress) {
+                        int64_t rd = rows_done.fetch_add(int64_t(s1 - s0) * r.cols().size() / w) +
+                                     int64_t(s1 - s0) * r.cols().size() / w;
+                        double f = ctx.time_limit > 0 ? elapsed() / ctx.time_limit
+                                                      : double(rd) / double(total_rows);
+                        ctx.progress->set_fraction(f);
+                    }
+                }
+            });
+        done = s1;
+        if (ctx.time_limit > 0) {
+            // Size the next pass to fill what is left of the time (at most 4x the last pass,
+            // so the estimate of the cost of a sample stays fresh).
+            double per_spp = (elapsed() - pass_start) / (s1 - s0);
+            double left = ctx.time_limit - elapsed();
+            pass_spp = int(std::min(4.0 * (s1 - s0), 0.95 * left / std::max(per_spp, 1e-9)));
+            if (pass_spp < 1) break;
+        }
+    }
+    return RenderResult{done};
+}
+
+}  // namespace ml

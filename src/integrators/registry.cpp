@@ -1,0 +1,40 @@
+#include "integrators/registry.h"
+
+#include "integrators/direct/direct.h"
+#include "integrators/path/path.h"
+#include "integrators/whitted/whitted.h"
+
+namespace ml {
+
+namespace {
+
+template <typename T>
+std::unique_ptr<Integrator> make(const Settings& s) {
+    return std::make_unique<T>(s);
+}
+
+}  // namespace
+
+const std::vector<IntegratorInfo>& integrator_registry() {
+    static const std::vector<IntegratorInfo> table = {
+        {"path", "path tracing, NEE + MIS: the unbiased reference", make<PathIntegrator>},
+        {"direct", "distribution ray tracing: direct light, soft shadows, glossy reflection",
+         make<DirectIntegrator>},
+        {"whitted", "Whitted ray tracing: mirrors, glass and direct light", make<WhittedIntegrator>},
+    };
+    return table;
+}
+
+const IntegratorInfo* find_integrator(const std::string& name) {
+    for (const IntegratorInfo& info : integrator_registry())
+        if (info.name == name) return &info;
+    return nullptr;
+}
+
+std::string integrator_for_pbrt_name(const std::string& pbrt_name) {
+    if (pbrt_name == "volpath") return "path";
+    if (find_integrator(pbrt_name)) return pbrt_name;
+    return "";
+}
+
+}  // namespace ml

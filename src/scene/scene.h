@@ -1,0 +1,43 @@
+// The scene as rendered: meshes in an Embree scene, the lights (indexed, preprocessed), and the
+// parsed description the camera, film and integrator are made from.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "geometry/embree_scene.h"
+#include "scene/scene_desc.h"
+
+namespace ml {
+
+class Scene {
+public:
+    explicit Scene(SceneDesc desc);
+
+    bool intersect(const Ray& ray, SurfaceInteraction* si) const {
+        return m_embree->intersect(ray, si);
+    }
+    bool occluded(const Ray& ray) const { return m_embree->occluded(ray); }
+    // True if nothing blocks the segment from the surface point `si` to the point `p`.
+    bool visible(const SurfaceInteraction& si, const Vec3& p) const {
+        Vec3 o = si.offset_origin(p - si.p);
+        // An unnormalised direction: t in (0, 1) spans the segment, shortened at the far end
+        // so the light's own surface does not block it.
+        return !m_embree->occluded(Ray{o, p - o, 1.f - 1e-4f});
+    }
+
+    const std::vector<std::unique_ptr<Light>>& lights() const { return m_desc.lights; }
+    const std::vector<const Light*>& infinite_lights() const { return m_infinite; }
+    Bounds3 bounds() const { return m_bounds; }
+    const SceneDesc& desc() const { return m_desc; }
+    SceneDesc& desc() { return m_desc; }
+    size_t triangle_count() const;
+
+private:
+    SceneDesc m_desc;
+    std::unique_ptr<EmbreeScene> m_embree;
+    std::vector<const Light*> m_infinite;
+    Bounds3 m_bounds;
+};
+
+}  // namespace ml
