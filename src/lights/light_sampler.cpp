@@ -4,26 +4,39 @@
 
 namespace ml {
 
-LightSampler::LightSampler(const std::string& kind,
-                           const std::vector<std::unique_ptr<Light>>& lights) {
-    if (kind != "power" && kind != "uniform")
-        throw std::invalid_argument("unknown light sampler \"" + kind +
-                                    "\" (power and uniform are)");
-    std::vector<float> weights;
-    for (size_t i = 0; i < lights.size(); ++i) {
-        if (lights[i]->index != int(i))
-            throw std::logic_error("LightSampler: lights must be indexed in order");
-        m_lights.push_back(lights[i].get());
-        float w = 1.f;
-        if (kind == "power") {
-            RGB phi = lights[i]->power();
-            w = std::max(0.f, phi.luminance());
-            // A coloured light of zero luminance still emits: fall back to its average.
-            if (w == 0.f) w = std::max(0.f, phi.average());
+LightSampler::LightSampler(const std::string& name, std::span<const Light* const> lights)
+    : m_name(name), m_lights(lights.begin(), lights.end()) {
+    build();
+}
+
+LightSampler::LightSampler(const std::string& name,
+                           const std::vector<std::unique_ptr<Light>>& lights)
+    : m_name(name) {
+    m_lights.reserve(lights.size());
+    for (const auto& l : lights) m_lights.push_back(l.get());
+    build();
+}
+
+void LightSampler::build() {
+    if (m_name != "uniform" && m_name != "power")
+        throw std::invalid_argument("unknown light sampler \"" + m_name + "\"");
+    if (m_lights.empty()) return;
+    std::vector<float> w(m_lights.size(), 1.f);
+    if (m_name == "power")
+        for (size_t i = 0; i < m_lights.size(); ++i) {
+            RGB phi = clamp_zero(m_lights[i]->power());
+            // Luminance weights are all positive: any positive channel gives a positive weight.
+            w[i] = phi.is_finite() ? phi.luminance() : 0.f;
         }
-        weights.push_back(w);
-    }
-    if (!weights.empty()) m_distribution = Distribution1D(weights);
+    m_dist = Distribution1D(w);
+}
+
+std::optional<SampledLight> LightSampler::sample(float u) const {
+    if (m_lights.empty()) return std::nullopt;
+    float pmf;
+    size_t i = m_dist.sample_discrete(u, &pmf);
+    if (pmf == 0) return std::nullopt;
+    return SampledLight{m_lights[i], int(i), pmf};
 }
 
 }  // namespace ml

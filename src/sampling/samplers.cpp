@@ -1,12 +1,22 @@
-// Placeholder until the samplers land (replaced by the sampling work).
+// create_sampler: the names a scene or the command line may ask for.
+#include <cmath>
 #include <stdexcept>
 
-#include "sampling/sampler.h"
+#include "sampling/samplers.h"
 
 namespace ml {
 
 std::unique_ptr<Sampler> create_sampler(const std::string& name, int spp, uint64_t seed) {
-    throw std::invalid_argument("sampler \"" + name + "\" is not built yet");
+    if (spp < 1) throw std::invalid_argument("samples per pixel must be at least 1");
+    if (name == "independent" || name == "random") return make_independent_sampler(spp, seed);
+    if (name == "stratified") {
+        // Rounded up to a square so both 1D and 2D requests are fully stratified.
+        int n = int(std::ceil(std::sqrt(double(spp)) - 1e-9));
+        return make_stratified_sampler(n, n, true, seed);
+    }
+    if (name == "sobol" || name == "paddedsobol" || name == "zsobol")
+        return make_sobol_sampler(spp, seed);
+    throw std::invalid_argument("unknown sampler \"" + name + "\"");
 }
 
 }  // namespace ml

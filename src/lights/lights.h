@@ -1,0 +1,43 @@
+// Constructors of the concrete lights, already in world space with final emission values (scale,
+// power and illuminance applied by create_light / create_area_light). Tests and the Lightcuts
+// conversion build lights through these directly.
+#pragma once
+
+#include <memory>
+
+#include "core/color.h"
+#include "core/math.h"
+#include "film/image.h"
+#include "geometry/mesh.h"
+#include "lights/light.h"
+
+namespace ml {
+
+// Isotropic point light of intensity I at p.
+std::unique_ptr<Light> make_point_light(const Vec3& p, const RGB& I);
+// Spot light at p along unit `axis`, full intensity inside cos_start, none outside cos_end, a
+// smoothstep between (pbrt-v4).
+std::unique_ptr<Light> make_spot_light(const Vec3& p, const Vec3& axis, const RGB& I,
+                                       float cos_start, float cos_end);
+// Distant light arriving along -w (w: unit direction towards the light) with radiance L.
+std::unique_ptr<Light> make_distant_light(const Vec3& w, const RGB& L);
+// Diffuse emitter over a whole world-space mesh, radiance L leaving the side of
+// triangle_normal() (both sides when two_sided). The mesh must outlive the light.
+std::unique_ptr<Light> make_diffuse_area_light(const TriangleMesh* mesh, const RGB& L,
+                                               bool two_sided);
+// Constant environment radiance L.
+std::unique_ptr<Light> make_uniform_infinite_light(const RGB& L);
+
+enum class EnvMapping {
+    EqualArea,  // square images: pbrt-v4's equal-area octahedral map, +z (light space) at centre
+    LatLong,    // 2:1 images: u = phi / 2pi, v = theta / pi, theta from +z (light space)
+};
+// Environment map (linear RGB, multiplied by scale) seen through the rotation light_to_world.
+std::unique_ptr<Light> make_image_infinite_light(Image image, EnvMapping mapping,
+                                                 const Transform& light_to_world, float scale);
+
+// Illuminance at a +z-facing (light space) point due to the map's upper hemisphere, by the
+// mapping's pixel solid angles; used by "illuminance" for image lights.
+float image_upper_hemisphere_illuminance(const Image& image, EnvMapping mapping);
+
+}  // namespace ml
