@@ -1,1 +1,45 @@
-int main() { return 0; }
+// manylight: the command line (DESIGN.md section 3). Exit 0 on success, 1 on bad input (with
+// `file:line:col: message`), 2 on bad usage.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "commands.h"
+#include "core/error.h"
+#include "integrators/settings.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"manylight: a many-light renderer (pbrt-v4 scenes in, images out)"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "manylight 0.1");
+    ml::RenderArgs render_args;
+    ml::add_render_command(app, render_args);
+    ml::DiffArgs diff_args;
+    ml::add_diff_command(app, diff_args);
+    ml::InfoArgs info_args;
+    ml::add_info_command(app, info_args);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+    try {
+        if (app.got_subcommand("render")) return ml::run_render(render_args);
+        if (app.got_subcommand("diff")) return ml::run_diff(diff_args);
+        if (app.got_subcommand("info")) return ml::run_info(info_args);
+    } catch (const ml::InputError& e) {
+        std::fflush(stdout);
+        std::cerr << e.formatted() << "\n";
+        return 1;
+    } catch (const ml::UsageError& e) {
+        std::cerr << "manylight: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "manylight: " << e.what() << "\n";
+        return 1;
+    }
+    return 2;
+}

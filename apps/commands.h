@@ -1,0 +1,35 @@
+// The subcommands of the manylight program.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace ml {
+
+struct RenderArgs {
+    std::string scene, output, integrator, resolution, stats, sampler;
+    int spp = 0, max_depth = -1, threads = 0;
+    long long seed = -1;
+    double time_limit = 0;
+    std::vector<std::string> set;
+    bool quiet = false;
+};
+void add_render_command(CLI::App& app, RenderArgs& args);
+int run_render(const RenderArgs& args);
+
+struct DiffArgs {
+    std::string a, b;
+    bool json = false;
+};
+void add_diff_command(CLI::App& app, DiffArgs& args);
+int run_diff(const DiffArgs& args);
+
+struct InfoArgs {
+    std::string scene;
+};
+void add_info_command(CLI::App& app, InfoArgs& args);
+int run_info(const InfoArgs& args);
+
+}  // namespace ml

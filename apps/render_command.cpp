@@ -1,0 +1,120 @@
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "commands.h"
+#include "integrators/registry.h"
+#include "integrators/render_job.h"
+#include "integrators/settings.h"
+#include "scene/default_scene.h"
+#include "scene/scene_desc.h"
+
+namespace ml {
+
+void add_render_command(CLI::App& app, RenderArgs& a) {
+    std::string integrators;
+    for (const IntegratorInfo& info : integrator_registry())
+        integrators += (integrators.empty() ? "" : ", ") + info.name;
+    CLI::App* r = app.add_subcommand("render", "render a pbrt-v4 scene (default: the Cornell box)");
+    r->add_option("scene", a.scene, "scene file (.pbrt); none: the built-in Cornell box");
+    r->add_option("-o,--output", a.output, "output image: .exr, .png or .pfm");
+    r->add_option("--integrator", a.integrator, "one of: " + integrators);
+    r->add_option("--spp", a.spp, "samples per pixel")->check(CLI::PositiveNumber);
+    r->add_option("--max-depth", a.max_depth, "maximum path depth")->check(CLI::NonNegativeNumber);
+    r->add_option("--resolution", a.resolution, "image size WxH");
+    r->add_option("--threads", a.threads, "threads (default: all cores)")->check(CLI::PositiveNumber);
+    r->add_option("--seed", a.seed, "random seed")->check(CLI::NonNegativeNumber);
+    r->add_option("--sampler", a.sampler, "independent, stratified or sobol");
+    r->add_option("--time-limit", a.time_limit, "render progressively for this many seconds")
+        ->check(CLI::PositiveNumber);
+    r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)");
+    r->add_option("--stats", a.stats, "write figures as JSON to this file");
+    r->add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
+}
+
+namespace {
+
+void parse_resolution(const std::string& s, RenderOptions& o) {
+    int w = 0, h = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+        throw UsageError("--resolution " + s + ": expected WxH, e.g. 640x360");
+    if (w <= 0 || h <= 0) throw UsageError("--resolution " + s + ": must be positive");
+    o.width = w;
+    o.height = h;
+}
+
+}  // namespace
+
+int run_render(const RenderArgs& a) {
+    RenderOptions o;
+    o.integrator = a.integrator;
+    if (a.spp > 0) o.spp = a.spp;
+    if (a.max_depth >= 0) o.max_depth = a.max_depth;
+    if (!a.resolution.empty()) parse_resolution(a.resolution, o);
+    if (a.seed >= 0) o.seed = uint64_t(a.seed);
+    if (!a.sampler.empty()) {
+        if (a.sampler != "independent" && a.sampler != "stratified" && a.sampler != "sobol")
+            throw UsageError("--sampler " + a.sampler + ": independent, stratified or sobol");
+        o.sampler = a.sampler;
+    }
+    o.threads = a.threads;
+    o.time_limit = a.time_limit;
+    o.progress = !a.quiet;
+    for (const std::string& kv : a.set) {
+        size_t eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0 || kv.find('.') > eq)
+            throw UsageError("--set " + kv + ": expected NAME.KEY=VALUE");
+        o.set[kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+    if (!a.integrator.empty() && !find_integrator(a.integrator))
+        throw UsageError("unknown integrator \"" + a.integrator + "\"");
+
+    // Load.
+    auto t0 = std::chrono::steady_clock::now();
+    SceneDesc desc = a.scene.empty() ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
+                                     : parse_scene_file(a.scene);
+    double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    // Where the image goes: -o, else the scene's Film filename, else manylight.png.
+    std::string film_name = desc.film.params.has("filename")
+                                ? desc.film.params.get_string("filename", "")
+                                : std::string();
+    std::string output = a.output;
+    if (output.empty()) output = a.scene.empty() || film_name.empty() ? "manylight.png" : film_name;
+    std::string ext = std::filesystem::path(output).extension().string();
+    for (char& c : ext) c = char(std::tolower(c));
+    if (ext != ".exr" && ext != ".png" && ext != ".pfm")
+        throw UsageError("output " + output + ": use .exr, .png or .pfm");
+
+    RenderOutput out = render_scene(std::move(desc), o);
+    out.figures.seconds_load = load;
+    write_image(output, out.image);
+
+    const RenderFigures& f = out.figures;
+    if (!a.stats.empty()) {
+        std::string tmp = a.stats + ".tmp";
+        {
+            std::ofstream js(tmp);
+            js << f.to_json();
+            if (!js) throw std::runtime_error("cannot write " + a.stats);
+        }
+        std::filesystem::rename(tmp, a.stats);
+    }
+    if (!a.quiet) {
+        uint64_t rays = f.rays_closest + f.rays_shadow;
+        std::printf(
+            "manylight: %s %dx%d %d spp %s in %.2f s (load %.2f s, build %.2f s, render %.2f s), "
+            "%.1f M rays/s -> %s\n",
+            a.scene.empty() ? "<cornell-box>" : a.scene.c_str(), f.width, f.height, f.spp,
+            f.integrator.c_str(), f.seconds_load + f.seconds_build + f.seconds_render,
+            f.seconds_load, f.seconds_build, f.seconds_render,
+            f.seconds_render > 0 ? rays / f.seconds_render * 1e-6 : 0.0, output.c_str());
+    }
+    return 0;
+}
+
+}  // namespace ml

@@ -1,0 +1,59 @@
+#include "film/image_metrics.h"
+
+#include <stdexcept>
+
+namespace ml {
+
+ImageDiff compare_images(const Image& a, const Image& b) {
+    if (a.width != b.width || a.height != b.height)
+        throw std::runtime_error("images differ in size: " + std::to_string(a.width) + "x" +
+                                 std::to_string(a.height) + " and " + std::to_string(b.width) +
+                                 "x" + std::to_string(b.height));
+    ImageDiff d;
+    double rel = 0, se = 0, sa[3] = {0, 0, 0}, sb[3] = {0, 0, 0};
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            double x = a.pixels[i][c], r = b.pixels[i][c];
+            rel += (x - r) * (x - r) / (r * r + 1e-2);
+            se += (x - r) * (x - r);
+            sa[c] += x;
+            sb[c] += r;
+        }
+    double n = double(a.pixels.size());
+    d.rel_mse = rel / (3 * n);
+    d.rmse = std::sqrt(se / (3 * n));
+    for (int c = 0; c < 3; ++c) {
+        d.mean_a[c] = float(sa[c] / n);
+        d.mean_b[c] = float(sb[c] / n);
+        d.mean_rel_diff[c] = sb[c] != 0 ? float((sa[c] - sb[c]) / sb[c]) : 0.f;
+    }
+    return d;
+}
+
+Image box_downsample(const Image& img, int k) {
+    if (k <= 0 || img.width % k || img.height % k)
+        throw std::runtime_error("box_downsample: size is not a multiple of the factor");
+    Image out(img.width / k, img.height / k);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            RGB s;
+            for (int j = 0; j < k; ++j)
+                for (int i = 0; i < k; ++i) s += img.at(x * k + i, y * k + j);
+            out.at(x, y) = s / float(k * k);
+        }
+    return out;
+}
+
+double max_block_rel_diff(const Image& a, const Image& ref, int block, float min_mean) {
+    Image ba = box_downsample(a, block), br = box_downsample(ref, block);
+    double worst = 0;
+    for (size_t i = 0; i < ba.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            float r = br.pixels[i][c];
+            if (r < min_mean) continue;
+            worst = std::max(worst, double(std::abs(ba.pixels[i][c] - r) / r));
+        }
+    return worst;
+}
+
+}  // namespace ml

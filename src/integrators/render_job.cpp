@@ -1,0 +1,154 @@
+#include "integrators/render_job.h"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+
+#include "camera/camera.h"
+#include "core/stats.h"
+#include "film/film.h"
+#include "film/filter.h"
+#include "integrators/registry.h"
+#include "scene/scene.h"
+
+namespace ml {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// pbrt-v4 sampler names to ours: the low-discrepancy ones all become Owen-scrambled Sobol'.
+std::string sampler_for_pbrt_name(const std::string& name, const FileLoc& loc) {
+    if (name.empty() || name == "sobol" || name == "zsobol" || name == "paddedsobol" ||
+        name == "halton" || name == "pmj02bn")
+        return "sobol";
+    if (name == "independent" || name == "stratified") return name;
+    throw_input_error(loc, "unknown sampler \"{}\"", name);
+}
+
+}  // namespace
+
+RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
+    RenderOutput out;
+    RenderFigures& fig = out.figures;
+
+    // Film: resolution from the scene unless overridden; a size that cannot fit is an error.
+    const ParameterList& film_params = desc.film.params;
+    if (!desc.film.name.empty() && desc.film.name != "rgb" && desc.film.name != "gbuffer")
+        throw_input_error(desc.film.loc, "unknown film \"{}\"", desc.film.name);
+    int width = film_params.get_int("xresolution", 1280);
+    int height = film_params.get_int("yresolution", 720);
+    if (opt.width) width = *opt.width;
+    if (opt.height) height = *opt.height;
+    if (width <= 0 || height <= 0)
+        throw_input_error(desc.film.loc, "resolution {}x{} must be positive", width, height);
+    if (int64_t(width) * height > (int64_t(1) << 27) || width > 65536 || height > 65536)
+        throw_input_error(desc.film.loc,
+                          "resolution {}x{} is too large (at most 2^27 pixels, 65536 a side)",
+                          width, height);
+    fig.output_hint = film_params.get_string("filename", "");
+    float max_component = film_params.get_float("maxcomponentvalue", kInfinity);
+    film_params.get_bool("savefp16", true);
+    film_params.get_float("diagonal", 35.f);
+    film_params.get_float("iso", 100.f);
+    film_params.get_float("exposuretime", 1.f);
+    film_params.get_string("sensor", "cie1931");
+    film_params.get_float("whitebalance", 0.f);
+    film_params.check_unused();
+
+    // Sampler.
+    const ParameterList& sp = desc.sampler.params;
+    std::string sampler_name =
+        opt.sampler.empty() ? sampler_for_pbrt_name(desc.sampler.name, desc.sampler.loc) : opt.sampler;
+    int spp = sp.get_int("pixelsamples", 16);
+    if (sampler_name == "stratified" && (sp.has("xsamples") || sp.has("ysamples")))
+        spp = sp.get_int("xsamples", 4) * sp.get_int("ysamples", 4);
+    sp.get_bool("jitter", true);
+    sp.get_string("randomization", "");
+    uint64_t seed = uint64_t(sp.get_int("seed", 0));
+    sp.check_unused();
+    if (opt.spp) spp = *opt.spp;
+    if (opt.seed) seed = *opt.seed;
+    if (opt.time_limit > 0 && !opt.spp) spp = 1 << 24;  // the time decides
+    if (spp <= 0) throw UsageError("samples per pixel must be positive");
+
+    // Filter and camera.
+    std::string filter_name = desc.filter.name.empty() ? "gaussian" : desc.filter.name;
+    auto filter = create_filter(filter_name, desc.filter.params, desc.filter.loc);
+    desc.filter.params.check_unused();
+    if (!desc.camera.name.empty() && desc.camera.name != "perspective")
+        throw_input_error(desc.camera.loc, "unsupported camera \"{}\" (perspective is)",
+                          desc.camera.name);
+    PerspectiveCamera camera(desc.camera.params, desc.world_to_camera.inverse(), width, height);
+    desc.camera.params.check_unused();
+
+    // Integrator: the command line's, else the scene's where we have it, else path.
+    std::string scene_integrator = integrator_for_pbrt_name(desc.integrator.name);
+    std::string name = opt.integrator;
+    if (name.empty()) name = scene_integrator.empty() ? "path" : scene_integrator;
+    const IntegratorInfo* info = find_integrator(name);
+    if (!info) throw UsageError("unknown integrator \"" + name + "\"");
+    std::map<std::string, std::string> overrides = opt.set;
+    if (opt.max_depth) overrides[name + ".maxdepth"] = std::to_string(*opt.max_depth);
+    // The scene's parameters apply only to the integrator they were written for.
+    const ParameterList* scene_params = name == scene_integrator ? &desc.integrator.params : nullptr;
+    Settings settings(name, scene_params, overrides);
+    auto integrator = info->create(settings);
+    settings.check_unused();
+
+    auto sampler = create_sampler(sampler_name, spp, seed);
+
+    // Threads, scene build, render.
+    int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    auto t_build = std::chrono::steady_clock::now();
+    Scene scene(std::move(desc));
+    fig.seconds_build = seconds_since(t_build);
+
+    Film film(width, height, max_component);
+    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
+    RenderContext ctx{scene, camera, *filter, film, *sampler, spp, opt.time_limit, &progress};
+    stats::reset();
+    auto t_render = std::chrono::steady_clock::now();
+    RenderResult result = integrator->render(ctx);
+    fig.seconds_render = seconds_since(t_render);
+    progress.done();
+    stats::RayCounts rays = stats::total();
+
+    out.image = film.to_image();
+    fig.integrator = name;
+    fig.sampler = sampler_name;
+    fig.spp = result.spp;
+    fig.width = width;
+    fig.height = height;
+    fig.threads = threads;
+    fig.rays_camera = rays.camera;
+    fig.rays_closest = rays.closest;
+    fig.rays_shadow = rays.shadow;
+    fig.triangles = scene.triangle_count();
+    fig.lights = scene.lights().size();
+    for (const auto& l : scene.lights())
+        if (l->type() == LightType::DeltaPosition) ++fig.point_lights;
+    return out;
+}
+
+std::string RenderFigures::to_json() const {
+    uint64_t total = rays_closest + rays_shadow;
+    double total_s = seconds_load + seconds_build + seconds_render;
+    return fmt::format(
+        "{{\"integrator\": \"{}\", \"sampler\": \"{}\", \"spp\": {}, \"resolution\": [{}, {}], "
+        "\"threads\": {},\n \"seconds\": {{\"load\": {:.4f}, \"build\": {:.4f}, \"render\": {:.4f}, "
+        "\"total\": {:.4f}}},\n \"rays\": {{\"camera\": {}, \"closest\": {}, \"shadow\": {}, "
+        "\"total\": {}}}, \"rays_per_second\": {:.6g},\n \"scene\": {{\"triangles\": {}}}, "
+        "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": 0}}}}\n",
+        integrator, sampler, spp, width, height, threads, seconds_load, seconds_build,
+        seconds_render, total_s, rays_camera, rays_closest, rays_shadow, total,
+        seconds_render > 0 ? double(total) / seconds_render : 0.0, triangles, lights,
+        point_lights);
+}
+
+}  // namespace ml

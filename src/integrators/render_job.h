@@ -1,0 +1,48 @@
+// A whole render: scene description in, image and figures out. The command line and the render
+// tests both go through here, so what the tests check is what users run.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "film/image.h"
+#include "scene/scene_desc.h"
+
+namespace ml {
+
+struct RenderOptions {
+    std::string integrator;              // empty: the scene's (mapped), else "path"
+    std::optional<int> spp;              // overrides the Sampler's "pixelsamples"
+    std::optional<int> max_depth;        // overrides the integrator's "maxdepth"
+    std::optional<int> width, height;    // override the Film's resolution
+    std::optional<uint64_t> seed;        // overrides the Sampler's "seed" (default 0)
+    std::string sampler;                 // empty: the scene's
+    int threads = 0;                     // 0: all cores
+    double time_limit = 0;               // seconds; > 0 renders progressively until spent
+    std::map<std::string, std::string> set;  // --set NAME.KEY=VALUE
+    bool progress = false;               // draw a progress bar on a terminal
+};
+
+struct RenderFigures {
+    std::string integrator, sampler;
+    int spp = 0, width = 0, height = 0, threads = 0;
+    double seconds_load = 0, seconds_build = 0, seconds_render = 0;
+    uint64_t rays_camera = 0, rays_closest = 0, rays_shadow = 0;
+    size_t triangles = 0, lights = 0, point_lights = 0;
+    std::string output_hint;  // the Film's "filename", if any
+    std::string to_json() const;
+};
+
+struct RenderOutput {
+    Image image;
+    RenderFigures figures;
+};
+
+// Renders a parsed scene. Throws InputError for bad scene settings and UsageError for bad
+// options. `seconds_load` is left for the caller to fill in.
+RenderOutput render_scene(SceneDesc desc, const RenderOptions& options);
+
+}  // namespace ml
