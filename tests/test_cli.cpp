@@ -1,0 +1,136 @@
+// The command line as users and scripts meet it: exit codes, messages, no partial output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int code = -1;
+    std::string output;
+};
+
+Result run(const std::string& args) {
+    std::string cmd = std::string(MANYLIGHT_BINARY) + " " + args + " 2>&1";
+    Result r;
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
+}
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        m_dir = fs::temp_directory_path() /
+                ("manylight-cli-" + std::to_string(::getpid()) + "-" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(path(name)) << text;
+        return path(name);
+    }
+    // The render must fail with exit 1, say where, and leave no image behind.
+    void expect_input_error(const std::string& args, const std::string& where) {
+        std::string out = path("out.exr");
+        Result r = run("render " + args + " -q -o " + out);
+        EXPECT_EQ(r.code, 1) << r.output;
+        EXPECT_NE(r.output.find(where), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(out));
+        for (auto& e : fs::directory_iterator(m_dir))
+            EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+    }
+    fs::path m_dir;
+};
+
+const char* kTinyScene = R"(LookAt 0 0 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+WorldBegin
+LightSource "point" "rgb I" [ 1 1 1 ] "point3 from" [ 0 0 -2 ]
+Shape "sphere" "float radius" [ 1 ]
+)";
+
+}  // namespace
+
+TEST_F(Cli, RendersASceneAndWritesStats) {
+    std::string scene = write("tiny.pbrt", kTinyScene);
+    Result r = run("render " + scene + " --spp 2 -q -o " + path("a.exr") + " --stats " +
+                   path("s.json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(path("a.exr")));
+    std::ifstream js(path("s.json"));
+    std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+    for (const char* key : {"\"integrator\"", "\"spp\"", "\"resolution\"", "\"threads\"",
+                            "\"seconds\"", "\"rays\"", "\"rays_per_second\"", "\"lights\""})
+        EXPECT_NE(text.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, DiffReportsMetrics) {
+    std::string scene = write("tiny.pbrt", kTinyScene);
+    ASSERT_EQ(run("render " + scene + " --spp 2 -q -o " + path("a.pfm")).code, 0);
+    Result r = run("diff " + path("a.pfm") + " " + path("a.pfm") + " --json");
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("\"relmse\": 0"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, MissingSceneFile) { expect_input_error(path("nope.pbrt"), "nope.pbrt"); }
+
+TEST_F(Cli, ZeroResolution) {
+    expect_input_error(write("s.pbrt", R"(Film "rgb" "integer xresolution" [ 0 ]
+WorldBegin
+)"),
+                       "s.pbrt:1:");
+}
+
+TEST_F(Cli, NegativeResolution) {
+    expect_input_error(write("s.pbrt", R"(Film "rgb" "integer yresolution" [ -5 ]
+WorldBegin
+)"),
+                       "s.pbrt:1:");
+}
+
+TEST_F(Cli, ResolutionTooLargeForMemory) {
+    expect_input_error(
+        write("s.pbrt", R"(Film "rgb" "integer xresolution" [ 60000 ] "integer yresolution" [ 60000 ]
+WorldBegin
+)"),
+        "too large");
+}
+
+TEST_F(Cli, UnusedFilmParameter) {
+    expect_input_error(write("s.pbrt", R"(Film "rgb" "float bogus" [ 1 ]
+WorldBegin
+)"),
+                       "s.pbrt:1:");
+}
+
+TEST_F(Cli, UnknownIntegratorIsAUsageError) {
+    Result r = run("render --integrator nope -q -o " + path("x.png"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+TEST_F(Cli, UnknownSetKeyIsAUsageError) {
+    std::string scene = write("tiny.pbrt", kTinyScene);
+    Result r = run("render " + scene + " --set path.nope=1 -q -o " + path("x.png"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+TEST_F(Cli, BadOutputExtensionIsAUsageError) {
+    Result r = run("render -q -o " + path("x.txt"));
+    EXPECT_EQ(r.code, 2) << r.output;
+}
