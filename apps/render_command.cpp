@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -92,6 +94,8 @@ int run_render(const RenderArgs& a) {
 
     RenderOutput out = render_scene(std::move(desc), o);
     out.figures.seconds_load = load;
+    struct rusage usage {};
+    if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;
     write_image(output, out.image);
 
     const RenderFigures& f = out.figures;

@@ -144,11 +144,12 @@ std::string RenderFigures::to_json() const {
         "\"threads\": {},\n \"seconds\": {{\"load\": {:.4f}, \"build\": {:.4f}, \"render\": {:.4f}, "
         "\"total\": {:.4f}}},\n \"rays\": {{\"camera\": {}, \"closest\": {}, \"shadow\": {}, "
         "\"total\": {}}}, \"rays_per_second\": {:.6g},\n \"scene\": {{\"triangles\": {}}}, "
-        "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": 0}}}}\n",
+        "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": 0}},\n \"memory\": "
+        "{{\"peak_rss_mb\": {:.1f}}}}}\n",
         integrator, sampler, spp, width, height, threads, seconds_load, seconds_build,
         seconds_render, total_s, rays_camera, rays_closest, rays_shadow, total,
         seconds_render > 0 ? double(total) / seconds_render : 0.0, triangles, lights,
-        point_lights);
+        point_lights, peak_rss_mb);
 }
 
 }  // namespace ml

@@ -33,6 +33,7 @@ struct RenderFigures {
     uint64_t rays_camera = 0, rays_closest = 0, rays_shadow = 0;
     size_t triangles = 0, lights = 0, point_lights = 0;
     std::string output_hint;  // the Film's "filename", if any
+    double peak_rss_mb = 0;   // peak resident memory of the process, filled in by the caller
     std::string to_json() const;
 };
 
