@@ -1,0 +1,111 @@
+// The BSDF lobes manylight implements. Each is a small value type placed in the per-sample
+// ScratchBuffer by its material; all hold only plain data, so skipping their destructor is safe.
+#pragma once
+
+#include <cstddef>
+
+#include "core/scratch.h"
+#include "materials/bsdf.h"
+#include "materials/microfacet.h"
+
+namespace ml {
+
+// Bxdfs have a virtual destructor and so are not "trivially destructible" for ScratchBuffer's
+// check, although destroying them does nothing. They are built in raw scratch bytes instead.
+template <typename T, typename... Args>
+T* scratch_new(ScratchBuffer& scratch, Args&&... args) {
+    struct alignas(T) Bytes {
+        std::byte b[sizeof(T)];
+    };
+    void* p = scratch.alloc<Bytes>();
+    return new (p) T(std::forward<Args>(args)...);
+}
+
+// Lambertian reflection on both sides.
+class DiffuseBxdf final : public Bxdf {
+public:
+    explicit DiffuseBxdf(const RGB& r) : m_r(r) {}
+    uint8_t flags() const override { return m_r.is_black() ? kBxdfNone : kBxdfDiffuseReflection; }
+    RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+
+private:
+    RGB m_r;
+};
+
+// Lambertian reflection plus Lambertian transmission to the other side.
+class DiffuseTransmissionBxdf final : public Bxdf {
+public:
+    DiffuseTransmissionBxdf(const RGB& r, const RGB& t) : m_r(r), m_t(t) {}
+    uint8_t flags() const override;
+    RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+
+private:
+    RGB m_r, m_t;
+};
+
+// A metal: complex Fresnel per channel over a GGX distribution, or a mirror when smooth.
+class ConductorBxdf final : public Bxdf {
+public:
+    ConductorBxdf(const TrowbridgeReitz& distrib, const RGB& eta, const RGB& k)
+        : m_distrib(distrib), m_eta(eta), m_k(k) {}
+    uint8_t flags() const override {
+        return m_distrib.effectively_smooth() ? kBxdfSpecularReflection : kBxdfGlossyReflection;
+    }
+    RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+
+private:
+    TrowbridgeReitz m_distrib;
+    RGB m_eta, m_k;
+};
+
+// Glass: Fresnel-weighted reflection and refraction, smooth or GGX-rough. eta is the IOR of the
+// -z side relative to the +z side.
+class DielectricBxdf final : public Bxdf {
+public:
+    DielectricBxdf(const TrowbridgeReitz& distrib, float eta) : m_distrib(distrib), m_eta(eta) {}
+    uint8_t flags() const override;
+    RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+
+private:
+    bool smooth() const { return m_eta == 1 || m_distrib.effectively_smooth(); }
+    TrowbridgeReitz m_distrib;
+    float m_eta;
+};
+
+// A dielectric coat over a Lambertian base, evaluated in closed form (see coated_diffuse.cpp).
+class CoatedDiffuseBxdf final : public Bxdf {
+public:
+    // fdr: fresnel_diffuse_internal(eta), precomputed by the material (it costs an integral).
+    CoatedDiffuseBxdf(const TrowbridgeReitz& distrib, float eta, const RGB& reflectance, float fdr);
+    uint8_t flags() const override;
+    RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+
+private:
+    float coat_probability(float cos_o) const;
+    RGB eval_base(float cos_o, float cos_i) const;
+    float eval_coat(const Vec3& wo, const Vec3& wi) const;
+    float pdf_coat(const Vec3& wo, const Vec3& wi) const;
+
+    TrowbridgeReitz m_distrib;
+    float m_eta;
+    RGB m_base_scale;     // reflectance / (pi eta^2 (1 - reflectance Fdr)), the diffuse part's
+                          // value without the two Fresnel transmittances
+    float m_base_weight;  // average escaping albedo, for lobe selection
+};
+
+}  // namespace ml

@@ -1,0 +1,100 @@
+// Fresnel reflectance of dielectric and conducting interfaces, refraction, and the small warps the
+// BSDFs need. Kept local to materials so the BSDFs do not depend on the sampling folder.
+#pragma once
+
+#include <complex>
+
+#include "core/color.h"
+#include "core/math.h"
+
+namespace ml {
+
+// Unpolarised Fresnel reflectance of a dielectric interface. eta = n_inside / n_outside, where
+// "inside" is the -z side; cos_i < 0 means the light arrives from inside.
+inline float fr_dielectric(float cos_i, float eta) {
+    cos_i = std::clamp(cos_i, -1.f, 1.f);
+    if (cos_i < 0) {
+        eta = 1 / eta;
+        cos_i = -cos_i;
+    }
+    float sin2_t = (1 - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1) return 1;  // total internal reflection
+    float cos_t = safe_sqrt(1 - sin2_t);
+    float r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    float r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5f * (r_parl * r_parl + r_perp * r_perp);
+}
+
+// Fresnel reflectance of a conductor with complex IOR eta + i k (cos_i in [0, 1]).
+inline float fr_complex(float cos_i, float eta_re, float k) {
+    using C = std::complex<float>;
+    C eta(eta_re, k);
+    cos_i = std::clamp(cos_i, 0.f, 1.f);
+    float sin2_i = 1 - cos_i * cos_i;
+    C sin2_t = sin2_i / (eta * eta);
+    C cos_t = std::sqrt(1.f - sin2_t);
+    C r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    C r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5f * (std::norm(r_parl) + std::norm(r_perp));
+}
+
+inline RGB fr_complex(float cos_i, const RGB& eta, const RGB& k) {
+    return {fr_complex(cos_i, eta.r, k.r), fr_complex(cos_i, eta.g, k.g),
+            fr_complex(cos_i, eta.b, k.b)};
+}
+
+// Refracts wi about n (both pointing away from the surface on wi's side when dot(wi, n) > 0).
+// eta = n_inside / n_outside as for fr_dielectric; *etap receives the relative IOR actually
+// crossed. Returns false on total internal reflection.
+inline bool refract(const Vec3& wi, Vec3 n, float eta, float* etap, Vec3* wt) {
+    float cos_i = dot(n, wi);
+    if (cos_i < 0) {
+        eta = 1 / eta;
+        cos_i = -cos_i;
+        n = -n;
+    }
+    float sin2_t = std::max(0.f, 1 - cos_i * cos_i) / (eta * eta);
+    if (sin2_t >= 1) return false;
+    float cos_t = safe_sqrt(1 - sin2_t);
+    *wt = -wi / eta + (cos_i / eta - cos_t) * n;
+    if (etap) *etap = eta;
+    return true;
+}
+
+// Hemispherical (cosine-weighted) average of the Fresnel reflectance seen from inside a
+// dielectric of relative IOR eta: 2 * integral of F(cos) cos dcos, total internal reflection
+// included. Integrated over cos^2 uniformly, where the integrand is smooth except at the
+// critical angle.
+inline float fresnel_diffuse_internal(float eta) {
+    constexpr int kSteps = 2048;
+    double sum = 0;
+    for (int i = 0; i < kSteps; ++i) {
+        float cos2 = (i + 0.5f) / kSteps;
+        sum += fr_dielectric(-std::sqrt(cos2), eta);
+    }
+    return float(sum / kSteps);
+}
+
+namespace bxdf_detail {
+
+// Cosine-weighted direction on the +z hemisphere (concentric disk mapping, then lifted).
+inline Vec3 sample_cosine_hemisphere(const Vec2& u) {
+    float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
+    float r = 0, phi = 0;
+    if (ox != 0 || oy != 0) {
+        if (std::abs(ox) > std::abs(oy)) {
+            r = ox;
+            phi = (kPi / 4) * (oy / ox);
+        } else {
+            r = oy;
+            phi = kPi / 2 - (kPi / 4) * (ox / oy);
+        }
+    }
+    float x = r * std::cos(phi), y = r * std::sin(phi);
+    return {x, y, safe_sqrt(1 - x * x - y * y)};
+}
+inline float cosine_hemisphere_pdf(float cos_theta) { return cos_theta * kInvPi; }
+
+}  // namespace bxdf_detail
+
+}  // namespace ml
