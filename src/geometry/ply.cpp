@@ -44,8 +44,8 @@ struct PlyHeader {
 };
 
 int type_size(std::string_view t, bool* is_signed) {
-    *is_signed = t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" ||
-                 t == "int32";
+    *is_signed =
+        t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
     if (t == "char" || t == "int8" || t == "uchar" || t == "uint8") return 1;
     if (t == "short" || t == "int16" || t == "ushort" || t == "uint16") return 2;
     if (t == "int" || t == "int32" || t == "uint" || t == "uint32" || t == "float" ||
@@ -100,10 +100,14 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
         if (w[0] == "end_header") break;
         if (w[0] == "format") {
             if (w.size() != 3) fail("malformed PLY header line {}", line_no);
-            if (w[1] == "ascii") h.format = PlyFormat::Ascii;
-            else if (w[1] == "binary_little_endian") h.format = PlyFormat::BinaryLE;
-            else if (w[1] == "binary_big_endian") h.format = PlyFormat::BinaryBE;
-            else fail("unknown PLY format \"{}\"", w[1]);
+            if (w[1] == "ascii")
+                h.format = PlyFormat::Ascii;
+            else if (w[1] == "binary_little_endian")
+                h.format = PlyFormat::BinaryLE;
+            else if (w[1] == "binary_big_endian")
+                h.format = PlyFormat::BinaryBE;
+            else
+                fail("unknown PLY format \"{}\"", w[1]);
             have_format = true;
         } else if (w[0] == "element") {
             uint64_t count = 0;
@@ -113,7 +117,8 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
                 fail("malformed PLY header line {}", line_no);
             h.elements.push_back(PlyElement{std::string(w[1]), count, {}});
         } else if (w[0] == "property") {
-            if (h.elements.empty()) fail("PLY header line {}: property before any element", line_no);
+            if (h.elements.empty())
+                fail("PLY header line {}: property before any element", line_no);
             PlyProp p;
             bool sgn = false;
             if (w.size() == 5 && w[1] == "list") {
@@ -125,7 +130,8 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
             } else if (w.size() == 3) {
                 p.size = type_size(w[1], &p.item_signed);
                 p.name = std::string(w[2]);
-                if (!p.size) fail("PLY header line {}: unknown property type \"{}\"", line_no, w[1]);
+                if (!p.size)
+                    fail("PLY header line {}: unknown property type \"{}\"", line_no, w[1]);
             } else {
                 fail("malformed PLY header line {}", line_no);
             }
@@ -176,8 +182,8 @@ PlyCounts walk_binary(std::string_view data, const PlyHeader& h, const Fail& fai
         }
         if (fixed) {
             if (record != 0 && e.count > (size - pos) / record)
-                fail("truncated: {} {} records of {} bytes do not fit in the file", e.count,
-                     e.name, record);
+                fail("truncated: {} {} records of {} bytes do not fit in the file", e.count, e.name,
+                     record);
             pos += e.count * record;
             continue;
         }
@@ -196,12 +202,13 @@ PlyCounts walk_binary(std::string_view data, const PlyHeader& h, const Fail& fai
                 if (is_face_list(e, p)) {
                     if (n >= 3) c.triangles += n - 2;
                     for (uint64_t k = 0; k < n; ++k) {
-                        uint64_t idx =
-                            read_uint(data.data() + pos + k * p.size, p.size, be, p.item_signed, &neg);
+                        uint64_t idx = read_uint(data.data() + pos + k * p.size, p.size, be,
+                                                 p.item_signed, &neg);
                         if (neg || idx >= c.vertices)
-                            fail("face {} has vertex index {} out of range (the mesh has {} "
-                                 "vertices)",
-                                 i, neg ? -1 : int64_t(idx), c.vertices);
+                            fail(
+                                "face {} has vertex index {} out of range (the mesh has {} "
+                                "vertices)",
+                                i, neg ? -1 : int64_t(idx), c.vertices);
                     }
                 }
                 pos += n * p.size;
@@ -231,12 +238,14 @@ PlyCounts walk_ascii(std::string_view data, const PlyHeader& h, const Fail& fail
                 double v = 0;
                 next_number(e.name.c_str(), i, &v);
                 if (!p.count_size) continue;
-                if (v < 0 || v != std::floor(v) || v > 1e6) fail("bad list length in {} {}", e.name, i);
+                if (v < 0 || v != std::floor(v) || v > 1e6)
+                    fail("bad list length in {} {}", e.name, i);
                 uint64_t n = uint64_t(v);
                 if (is_face_list(e, p) && n >= 3) c.triangles += n - 2;
                 for (uint64_t k = 0; k < n; ++k) {
                     next_number(e.name.c_str(), i, &v);
-                    if (is_face_list(e, p) && (v < 0 || v >= double(c.vertices) || v != std::floor(v)))
+                    if (is_face_list(e, p) &&
+                        (v < 0 || v >= double(c.vertices) || v != std::floor(v)))
                         fail("face {} has vertex index {} out of range (the mesh has {} vertices)",
                              i, v, c.vertices);
                 }
@@ -263,8 +272,8 @@ PlyCounts validate(std::string_view data, const Fail& fail) {
     if (!list) fail("faces lack a vertex_indices list");
     if (vertex->count > (uint64_t(1) << 31) || face->count > (uint64_t(1) << 31))
         fail("too many vertices or faces");
-    PlyCounts c = h.format == PlyFormat::Ascii ? walk_ascii(data, h, fail)
-                                               : walk_binary(data, h, fail);
+    PlyCounts c =
+        h.format == PlyFormat::Ascii ? walk_ascii(data, h, fail) : walk_binary(data, h, fail);
     c.vertices = vertex->count;
     c.faces = face->count;
     return c;
@@ -357,8 +366,8 @@ std::unique_ptr<TriangleMesh> load_ply(const std::string& path, const FileLoc& l
     PlyImporter importer(*mesh, counts.vertices, counts.triangles);
     MemoryBuf buf(data.data(), data.size());
     std::istream in(&buf);
-    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal |
-                                OpenMesh::IO::Options::VertexTexCoord;
+    OpenMesh::IO::Options opt =
+        OpenMesh::IO::Options::VertexNormal | OpenMesh::IO::Options::VertexTexCoord;
     ReaderPool& pool = reader_pool();
     OpenMesh::IO::_PLYReader_* reader = pool.acquire();
     bool ok = false;
@@ -371,6 +380,8 @@ std::unique_ptr<TriangleMesh> load_ply(const std::string& path, const FileLoc& l
     pool.release(reader);
     if (!ok) fail("OpenMesh could not read it");
     if (!importer.error().empty()) fail("{}", importer.error());
+    if (!mesh->n.empty()) mesh->n.resize(mesh->p.size());
+    if (!mesh->uv.empty()) mesh->uv.resize(mesh->p.size());
     // Counts OpenMesh returned against the header: a mismatch means a misread.
     if (mesh->p.size() != counts.vertices)
         fail("read {} vertices, the header says {}", mesh->p.size(), counts.vertices);

@@ -49,7 +49,8 @@ public:
         for (const VertexHandle& h : v)
             if (h.idx() < 0 || size_t(h.idx()) >= m_mesh.p.size()) {
                 if (m_error.empty())
-                    m_error = "face " + std::to_string(m_faces - 1) + " has a vertex index out of range";
+                    m_error =
+                        "face " + std::to_string(m_faces - 1) + " has a vertex index out of range";
                 return FaceHandle();
             }
         for (size_t k = 1; k + 1 < v.size(); ++k) {
@@ -61,13 +62,13 @@ public:
     }
     void set_normal(VertexHandle h, const Vec3f& n) override {
         if (!valid(h)) return;
-        if (m_mesh.n.size() < m_mesh.p.capacity()) m_mesh.n.resize(m_mesh.p.capacity());
+        if (size_t(h.idx()) >= m_mesh.n.size()) m_mesh.n.resize(arrays_size());
         m_mesh.n[h.idx()] = Vec3(n[0], n[1], n[2]);
     }
     void set_normal(VertexHandle h, const Vec3d& n) override { set_normal(h, Vec3f(n)); }
     void set_texcoord(VertexHandle h, const Vec2f& t) override {
         if (!valid(h)) return;
-        if (m_mesh.uv.size() < m_mesh.p.capacity()) m_mesh.uv.resize(m_mesh.p.capacity());
+        if (size_t(h.idx()) >= m_mesh.uv.size()) m_mesh.uv.resize(arrays_size());
         m_mesh.uv[h.idx()] = Vec2(t[0], t[1]);
     }
     void set_point(VertexHandle h, const Vec3f& p) override {
@@ -111,6 +112,8 @@ public:
     void add_texture_information(int, std::string) override {}
 
 private:
+    // Normals and uvs arrive per vertex after it was added: size their arrays once.
+    size_t arrays_size() const { return std::max(m_mesh.p.size(), m_mesh.p.capacity()); }
     bool valid(VertexHandle h) const { return h.idx() >= 0 && size_t(h.idx()) < m_mesh.p.size(); }
     TriangleMesh& m_mesh;
     size_t m_faces = 0;

@@ -1,0 +1,27 @@
+// pbrt-v4 shapes as object-space triangle meshes: "trianglemesh" as given (validated), "sphere"
+// and "disk" tessellated finely enough that the facets do not show, with analytic per-vertex
+// normals and pbrt's (u, v) parameterisation. Then the move to world space.
+#pragma once
+
+#include <memory>
+
+#include "core/math.h"
+#include "geometry/mesh.h"
+#include "scene/params.h"
+
+namespace ml {
+
+// Each reads its parameters from `params` (the caller checks for unused ones afterwards) and
+// throws InputError at the offending parameter, or at `loc` for what is missing.
+std::unique_ptr<TriangleMesh> make_triangle_mesh(const ParameterList& params, const FileLoc& loc);
+std::unique_ptr<TriangleMesh> make_sphere(const ParameterList& params, const FileLoc& loc);
+std::unique_ptr<TriangleMesh> make_disk(const ParameterList& params, const FileLoc& loc);
+
+// Moves an object-space mesh to world space in place: points by `to_world`, normals by its
+// inverse transpose (renormalised). Sets flip_normals = reverse_orientation xor the transform's
+// change of handedness. Where the mesh has shading normals, pbrt-v4 turns each triangle's
+// geometric normal to their side (and ReverseOrientation negates them); we reorder each
+// triangle's vertices so that triangle_normal() agrees with that.
+void transform_mesh(TriangleMesh& mesh, const Transform& to_world, bool reverse_orientation);
+
+}  // namespace ml

@@ -1,0 +1,64 @@
+// What the parser tracks between directives: the current transform and attributes (pbrt-v4's
+// graphics state), the scopes that save and restore them, and shapes waiting to be built.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "geometry/mesh.h"
+#include "scene/params.h"
+
+namespace ml {
+
+// An AreaLightSource directive; it applies to every following Shape in its attribute scope.
+struct AreaLightSpec {
+    std::string type;
+    ParameterList params;
+    FileLoc loc;
+};
+
+struct GraphicsState {
+    Transform ctm;  // object to world at the next directive
+    bool reverse_orientation = false;
+    const Material* material = nullptr;  // null: the default material
+    std::shared_ptr<const AreaLightSpec> area_light;
+};
+
+// AttributeBegin saves the whole state, TransformBegin only the transform, ObjectBegin the whole
+// state as AttributeBegin does; each must be closed by its own End.
+enum class ScopeKind { Attribute, Transform, Object };
+
+struct Scope {
+    ScopeKind kind;
+    GraphicsState saved;
+    FileLoc loc;  // where it was opened, for an unclosed scope at the end of the input
+};
+
+// An object-space mesh: built while parsing (trianglemesh, sphere, disk) or read from a PLY
+// file after parsing, in parallel with the others.
+struct MeshSource {
+    std::unique_ptr<TriangleMesh> mesh;
+    std::string ply_path;  // non-empty: still to be read
+    FileLoc loc;           // for errors about the file
+    int uses = 0;          // shapes built from it (instancing reuses sources)
+};
+
+// One world-space mesh to produce from a source.
+struct ShapeRecord {
+    size_t source;
+    Transform to_world;
+    bool reverse_orientation;
+    const Material* material;
+    std::shared_ptr<const AreaLightSpec> area_light;  // null: does not emit
+};
+
+// ObjectBegin ... ObjectEnd: shapes relative to the CTM at each ObjectInstance.
+struct ObjectDef {
+    std::vector<ShapeRecord> shapes;
+    FileLoc loc;
+};
+
+}  // namespace ml

@@ -1,0 +1,332 @@
+#include "scene/scene_builder.h"
+
+#include <tbb/parallel_for.h>
+
+#include <exception>
+#include <filesystem>
+
+#include "geometry/ply.h"
+#include "geometry/shapes.h"
+#include "lights/create.h"
+
+namespace ml {
+
+SceneBuilder::SceneBuilder(std::string base_dir) { m_desc.base_dir = std::move(base_dir); }
+
+void SceneBuilder::require_options(const std::string& directive, const FileLoc& loc) const {
+    if (m_in_world)
+        throw_input_error(loc, "\"{}\" is not allowed after WorldBegin (it belongs before it)",
+                          directive);
+}
+
+void SceneBuilder::require_world(const std::string& directive, const FileLoc& loc) const {
+    if (!m_in_world) throw_input_error(loc, "\"{}\" is only allowed after WorldBegin", directive);
+}
+
+void SceneBuilder::rotate(float degrees, const Vec3& axis, const FileLoc& loc) {
+    if (length_squared(axis) == 0.f) throw_input_error(loc, "Rotate: the axis is zero");
+    m_state.ctm = m_state.ctm * Transform::rotate(degrees, axis);
+}
+
+void SceneBuilder::look_at(const Vec3& eye, const Vec3& look, const Vec3& up, const FileLoc& loc) {
+    bool ok = true;
+    Transform t = Transform::look_at(eye, look, up, &ok);
+    if (!ok)
+        throw_input_error(loc,
+                          "LookAt: the eye equals the target or the up vector is parallel "
+                          "to the view direction");
+    m_state.ctm = m_state.ctm * t;
+}
+
+namespace {
+
+Transform transposed(const double m[16], const FileLoc& loc) {
+    float t[4][4];
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) t[r][c] = float(m[c * 4 + r]);
+    bool ok = true;
+    Transform x = Transform::from_matrix(t, &ok);
+    if (!ok) throw_input_error(loc, "the matrix is singular or not finite");
+    return x;
+}
+
+}  // namespace
+
+void SceneBuilder::transform(const double m[16], const FileLoc& loc) {
+    m_state.ctm = transposed(m, loc);
+}
+
+void SceneBuilder::concat_transform(const double m[16], const FileLoc& loc) {
+    m_state.ctm = m_state.ctm * transposed(m, loc);
+}
+
+void SceneBuilder::coord_sys_transform(const std::string& name, const FileLoc& loc) {
+    auto it = m_named_frames.find(name);
+    if (it == m_named_frames.end())
+        throw_input_error(loc, "unknown coordinate system \"{}\"", name);
+    m_state.ctm = it->second;
+}
+
+void SceneBuilder::begin_scope(ScopeKind kind, const FileLoc& loc) {
+    m_scopes.push_back(Scope{kind, m_state, loc});
+}
+
+namespace {
+
+const char* scope_name(ScopeKind k) {
+    switch (k) {
+        case ScopeKind::Attribute:
+            return "AttributeBegin";
+        case ScopeKind::Transform:
+            return "TransformBegin";
+        case ScopeKind::Object:
+            return "ObjectBegin";
+    }
+    return "";
+}
+
+const char* scope_end_name(ScopeKind k) {
+    switch (k) {
+        case ScopeKind::Attribute:
+            return "AttributeEnd";
+        case ScopeKind::Transform:
+            return "TransformEnd";
+        case ScopeKind::Object:
+            return "ObjectEnd";
+    }
+    return "";
+}
+
+}  // namespace
+
+void SceneBuilder::end_scope(ScopeKind kind, const FileLoc& loc) {
+    if (m_scopes.empty())
+        throw_input_error(loc, "{} without a matching {}", scope_end_name(kind), scope_name(kind));
+    const Scope& top = m_scopes.back();
+    if (top.kind != kind)
+        throw_input_error(loc, "{} closes the {} opened at {}", scope_end_name(kind),
+                          scope_name(top.kind), top.loc.to_string());
+    if (kind == ScopeKind::Transform)
+        m_state.ctm = top.saved.ctm;
+    else
+        m_state = top.saved;
+    m_scopes.pop_back();
+}
+
+void SceneBuilder::object_begin(const std::string& name, const FileLoc& loc) {
+    if (m_current_object)
+        throw_input_error(loc, "ObjectBegin \"{}\" inside the definition of \"{}\"", name,
+                          m_current_object_name);
+    if (m_objects.count(name)) throw_input_error(loc, "object \"{}\" redefined", name);
+    begin_scope(ScopeKind::Object, loc);
+    m_current_object = &m_objects[name];
+    m_current_object->loc = loc;
+    m_current_object_name = name;
+}
+
+void SceneBuilder::object_end(const FileLoc& loc) {
+    if (!m_current_object) throw_input_error(loc, "ObjectEnd without a matching ObjectBegin");
+    end_scope(ScopeKind::Object, loc);
+    m_current_object = nullptr;
+}
+
+void SceneBuilder::object_instance(const std::string& name, const FileLoc& loc) {
+    if (m_current_object)
+        throw_input_error(loc, "ObjectInstance inside the definition of object \"{}\"",
+                          m_current_object_name);
+    auto it = m_objects.find(name);
+    if (it == m_objects.end()) throw_input_error(loc, "undefined object \"{}\"", name);
+    // Instances are flattened: each becomes copies of the object's meshes.
+    for (const ShapeRecord& s : it->second.shapes) {
+        ShapeRecord r = s;
+        r.to_world = m_state.ctm * s.to_world;
+        ++m_sources[r.source].uses;
+        m_shapes.push_back(std::move(r));
+    }
+}
+
+void SceneBuilder::world_begin(const FileLoc& loc) {
+    if (m_in_world) throw_input_error(loc, "WorldBegin given twice");
+    if (!m_scopes.empty())
+        throw_input_error(loc, "WorldBegin inside the {} opened at {}",
+                          scope_name(m_scopes.back().kind), m_scopes.back().loc.to_string());
+    m_in_world = true;
+    m_state.ctm = Transform();
+    m_named_frames["world"] = m_state.ctm;
+}
+
+void SceneBuilder::camera(const std::string& name, ParameterList params, const FileLoc& loc) {
+    // As pbrt: the CTM is the camera's world-to-camera transform, and "camera" names its frame.
+    m_desc.world_to_camera = m_state.ctm;
+    m_named_frames["camera"] = m_state.ctm.inverse();
+    entity(&SceneDesc::camera, name, std::move(params), loc);
+}
+
+void SceneBuilder::entity(SceneEntity SceneDesc::*which, const std::string& name,
+                          ParameterList params, const FileLoc& loc) {
+    SceneEntity& e = m_desc.*which;
+    e.name = name;
+    e.params = std::move(params);
+    e.loc = loc;
+}
+
+void SceneBuilder::material(const std::string& type, const ParameterList& params,
+                            const FileLoc& loc) {
+    auto m = create_material(type, params, m_desc.textures, loc);
+    params.check_unused();
+    m_state.material = m.get();
+    m_desc.materials.push_back(std::move(m));
+}
+
+void SceneBuilder::make_named_material(const std::string& name, const ParameterList& params,
+                                       const FileLoc& loc) {
+    // pbrt-v4 rejects a second definition of the same name.
+    if (m_named_materials.count(name))
+        throw_input_error(loc, "named material \"{}\" redefined", name);
+    const Param* type = params.find("type");
+    if (!type) throw_input_error(loc, "MakeNamedMaterial \"{}\": \"string type\" is missing", name);
+    std::string t = params.get_string("type", "");
+    auto m = create_material(t, params, m_desc.textures, loc);
+    params.check_unused();
+    m_named_materials[name] = m.get();
+    m_desc.materials.push_back(std::move(m));
+}
+
+void SceneBuilder::named_material(const std::string& name, const FileLoc& loc) {
+    auto it = m_named_materials.find(name);
+    if (it == m_named_materials.end())
+        throw_input_error(loc, "undefined named material \"{}\"", name);
+    m_state.material = it->second;
+}
+
+void SceneBuilder::texture(const std::string& name, const std::string& kind, const std::string& cls,
+                           const ParameterList& params, const FileLoc& loc) {
+    if (kind != "float" && kind != "spectrum")
+        throw_input_error(loc, "texture \"{}\": type \"{}\" must be \"float\" or \"spectrum\"",
+                          name, kind);
+    bool exists = kind == "float" ? m_desc.textures.floats.count(name) != 0
+                                  : m_desc.textures.rgbs.count(name) != 0;
+    if (exists) throw_input_error(loc, "texture \"{}\" redefined", name);
+    create_texture(name, kind, cls, params, m_desc.base_dir, m_desc.textures, m_images, loc);
+    params.check_unused();
+}
+
+const Material* SceneBuilder::default_material(const FileLoc& loc) {
+    if (!m_default_material) {
+        // pbrt's default: diffuse with reflectance 0.5.
+        ParameterList none(loc);
+        auto m = create_material("diffuse", none, m_desc.textures, loc);
+        m_default_material = m.get();
+        m_desc.materials.push_back(std::move(m));
+    }
+    return m_default_material;
+}
+
+void SceneBuilder::add_shape(size_t source) {
+    ShapeRecord r{source, m_state.ctm, m_state.reverse_orientation,
+                  m_state.material ? m_state.material : default_material(m_sources[source].loc),
+                  m_state.area_light};
+    if (m_current_object) {
+        // As pbrt-v4: area lights are ignored inside object instances.
+        r.area_light = nullptr;
+        m_current_object->shapes.push_back(std::move(r));
+    } else {
+        ++m_sources[source].uses;
+        m_shapes.push_back(std::move(r));
+    }
+}
+
+void SceneBuilder::shape(const std::string& type, const ParameterList& params, const FileLoc& loc) {
+    MeshSource src;
+    src.loc = loc;
+    if (type == "trianglemesh") {
+        src.mesh = make_triangle_mesh(params, loc);
+    } else if (type == "sphere") {
+        src.mesh = make_sphere(params, loc);
+    } else if (type == "disk") {
+        src.mesh = make_disk(params, loc);
+    } else if (type == "plymesh") {
+        for (const char* unsupported : {"displacement", "edgelength"})
+            if (const Param* p = params.find(unsupported))
+                throw_input_error(p->loc, "plymesh: \"{}\" (displacement mapping) is not supported",
+                                  unsupported);
+        const Param* f = params.find("filename");
+        std::string name = params.get_string("filename", "");
+        if (!f || name.empty()) throw_input_error(loc, "plymesh: \"string filename\" is required");
+        std::filesystem::path path(name);
+        if (path.is_relative()) path = std::filesystem::path(m_desc.base_dir) / path;
+        src.ply_path = path.lexically_normal().string();
+        src.loc = f->loc;
+        std::error_code ec;
+        if (!std::filesystem::exists(src.ply_path, ec))
+            throw_input_error(f->loc, "{}: no such file", src.ply_path);
+    } else {
+        throw_input_error(loc, "unknown shape \"{}\"", type);
+    }
+    params.check_unused();
+    m_sources.push_back(std::move(src));
+    add_shape(m_sources.size() - 1);
+}
+
+void SceneBuilder::light_source(const std::string& type, const ParameterList& params,
+                                const FileLoc& loc) {
+    auto light = create_light(type, params, m_state.ctm, m_desc.base_dir, loc);
+    params.check_unused();
+    m_desc.lights.push_back(std::move(light));
+}
+
+void SceneBuilder::area_light_source(const std::string& type, ParameterList params,
+                                     const FileLoc& loc) {
+    m_state.area_light =
+        std::make_shared<AreaLightSpec>(AreaLightSpec{type, std::move(params), loc});
+}
+
+SceneDesc SceneBuilder::finish() {
+    if (!m_scopes.empty()) {
+        const Scope& s = m_scopes.back();
+        throw_input_error(s.loc, "{} without a matching {} before the end of the input",
+                          scope_name(s.kind), scope_end_name(s.kind));
+    }
+
+    // Step 1: read the PLY files in parallel; report the first failure in file order.
+    std::vector<size_t> plys;
+    for (size_t i = 0; i < m_sources.size(); ++i)
+        if (!m_sources[i].ply_path.empty()) plys.push_back(i);
+    std::vector<std::exception_ptr> errors(plys.size());
+    tbb::parallel_for(size_t(0), plys.size(), [&](size_t k) {
+        MeshSource& s = m_sources[plys[k]];
+        try {
+            s.mesh = load_ply(s.ply_path, s.loc);
+        } catch (...) {
+            errors[k] = std::current_exception();
+        }
+    });
+    for (auto& e : errors)
+        if (e) std::rethrow_exception(e);
+
+    // Step 2: world-space meshes. A source used once is moved, an instanced one copied.
+    m_desc.meshes.resize(m_shapes.size());
+    tbb::parallel_for(size_t(0), m_shapes.size(), [&](size_t i) {
+        const ShapeRecord& r = m_shapes[i];
+        MeshSource& s = m_sources[r.source];
+        auto mesh = s.uses == 1 ? std::move(s.mesh) : std::make_unique<TriangleMesh>(*s.mesh);
+        transform_mesh(*mesh, r.to_world, r.reverse_orientation);
+        mesh->material = r.material;
+        m_desc.meshes[i] = std::move(mesh);
+    });
+
+    // Step 3: area lights, on the finished world meshes, in file order.
+    for (size_t i = 0; i < m_shapes.size(); ++i) {
+        const ShapeRecord& r = m_shapes[i];
+        if (!r.area_light) continue;
+        ParameterList params = r.area_light->params;  // fresh used-flags for each shape
+        auto light = create_area_light(r.area_light->type, params, m_desc.meshes[i].get(),
+                                       r.area_light->loc);
+        params.check_unused();
+        m_desc.meshes[i]->area_light = light.get();
+        m_desc.lights.push_back(std::move(light));
+    }
+    return std::move(m_desc);
+}
+
+}  // namespace ml

@@ -1,0 +1,83 @@
+// The meaning of pbrt-v4 directives, apart from their syntax: the graphics state and its scopes,
+// named materials, textures and coordinate systems, object instancing, and the shapes and lights
+// that become the SceneDesc. The parser (parser.cpp) calls one method per directive.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "materials/create.h"
+#include "scene/graphics_state.h"
+#include "scene/scene_desc.h"
+
+namespace ml {
+
+class SceneBuilder {
+public:
+    explicit SceneBuilder(std::string base_dir);
+
+    // pbrt-v4 splits a scene into options (before WorldBegin) and the world; each directive
+    // belongs to one of them.
+    void require_options(const std::string& directive, const FileLoc& loc) const;
+    void require_world(const std::string& directive, const FileLoc& loc) const;
+
+    // Transforms: each multiplies the CTM on the right, as pbrt does.
+    void identity() { m_state.ctm = Transform(); }
+    void translate(const Vec3& d) { m_state.ctm = m_state.ctm * Transform::translate(d); }
+    void scale(const Vec3& s) { m_state.ctm = m_state.ctm * Transform::scale(s); }
+    void rotate(float degrees, const Vec3& axis, const FileLoc& loc);
+    void look_at(const Vec3& eye, const Vec3& look, const Vec3& up, const FileLoc& loc);
+    // `m` as written in the file: pbrt stores matrices column by column, so they are transposed.
+    void transform(const double m[16], const FileLoc& loc);
+    void concat_transform(const double m[16], const FileLoc& loc);
+    void coordinate_system(const std::string& name) { m_named_frames[name] = m_state.ctm; }
+    void coord_sys_transform(const std::string& name, const FileLoc& loc);
+    void reverse_orientation() { m_state.reverse_orientation = !m_state.reverse_orientation; }
+
+    void begin_scope(ScopeKind kind, const FileLoc& loc);
+    void end_scope(ScopeKind kind, const FileLoc& loc);
+    void object_begin(const std::string& name, const FileLoc& loc);
+    void object_end(const FileLoc& loc);
+    void object_instance(const std::string& name, const FileLoc& loc);
+    void world_begin(const FileLoc& loc);
+
+    // Camera, Film, Sampler, PixelFilter, Integrator: kept for the renderer, unchecked.
+    void camera(const std::string& name, ParameterList params, const FileLoc& loc);
+    void entity(SceneEntity SceneDesc::*which, const std::string& name, ParameterList params,
+                const FileLoc& loc);
+
+    void material(const std::string& type, const ParameterList& params, const FileLoc& loc);
+    void make_named_material(const std::string& name, const ParameterList& params,
+                             const FileLoc& loc);
+    void named_material(const std::string& name, const FileLoc& loc);
+    void texture(const std::string& name, const std::string& kind, const std::string& cls,
+                 const ParameterList& params, const FileLoc& loc);
+    void shape(const std::string& type, const ParameterList& params, const FileLoc& loc);
+    void light_source(const std::string& type, const ParameterList& params, const FileLoc& loc);
+    void area_light_source(const std::string& type, ParameterList params, const FileLoc& loc);
+
+    // Checks that every scope was closed, reads the PLY files (in parallel), moves meshes to
+    // world space and creates the area lights. Call once, at the end of the input.
+    SceneDesc finish();
+
+private:
+    const Material* default_material(const FileLoc& loc);
+    void add_shape(size_t source);
+
+    SceneDesc m_desc;
+    GraphicsState m_state;
+    std::vector<Scope> m_scopes;
+    bool m_in_world = false;
+    std::map<std::string, Transform> m_named_frames;
+    std::map<std::string, const Material*> m_named_materials;
+    const Material* m_default_material = nullptr;
+    ImageCache m_images;
+    std::vector<MeshSource> m_sources;
+    std::vector<ShapeRecord> m_shapes;
+    std::map<std::string, ObjectDef> m_objects;
+    ObjectDef* m_current_object = nullptr;  // inside ObjectBegin ... ObjectEnd
+    std::string m_current_object_name;
+};
+
+}  // namespace ml
