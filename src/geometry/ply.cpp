@@ -174,6 +174,7 @@ PlyCounts walk_binary(std::string_view data, const PlyHeader& h, const Fail& fai
     bool be = h.format == PlyFormat::BinaryBE;
     size_t pos = h.data_offset, size = data.size();
     for (const PlyElement& e : h.elements) {
+        if (e.name == "vertex") c.vertices = e.count;
         bool fixed = true;
         uint64_t record = 0;
         for (const PlyProp& p : e.props) {
@@ -214,7 +215,6 @@ PlyCounts walk_binary(std::string_view data, const PlyHeader& h, const Fail& fai
                 pos += n * p.size;
             }
         }
-        if (e.name == "vertex") c.vertices = e.count;
     }
     return c;
 }
@@ -233,6 +233,7 @@ PlyCounts walk_ascii(std::string_view data, const PlyHeader& h, const Fail& fail
                  i);
     };
     for (const PlyElement& e : h.elements) {
+        if (e.name == "vertex") c.vertices = e.count;
         for (uint64_t i = 0; i < e.count; ++i) {
             for (const PlyProp& p : e.props) {
                 double v = 0;
@@ -251,7 +252,6 @@ PlyCounts walk_ascii(std::string_view data, const PlyHeader& h, const Fail& fail
                 }
             }
         }
-        if (e.name == "vertex") c.vertices = e.count;
     }
     return c;
 }

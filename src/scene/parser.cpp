@@ -186,7 +186,11 @@ private:
                 for (;;) {
                     Token t = next();
                     if (t.kind == TokenKind::RBracket) break;
-                    if (t.kind == TokenKind::End || t.kind == TokenKind::LBracket)
+                    if (t.kind == TokenKind::End)
+                        throw InputError(
+                            Tokenizer::loc(v),
+                            fmt::format("parameter \"{}\": '[' without a matching ']'", d));
+                    if (t.kind == TokenKind::LBracket)
                         syntax_error(t,
                                      fmt::format("parameter \"{}\": expected values and ']'", d));
                     add_value(p, kind, t);

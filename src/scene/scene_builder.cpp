@@ -223,8 +223,7 @@ const Material* SceneBuilder::default_material(const FileLoc& loc) {
 }
 
 void SceneBuilder::add_shape(size_t source) {
-    ShapeRecord r{source, m_state.ctm, m_state.reverse_orientation,
-                  m_state.material ? m_state.material : default_material(m_sources[source].loc),
+    ShapeRecord r{source, m_state.ctm, m_state.reverse_orientation, m_state.material,
                   m_state.area_light};
     if (m_current_object) {
         // As pbrt-v4: area lights are ignored inside object instances.
@@ -303,6 +302,10 @@ SceneDesc SceneBuilder::finish() {
     });
     for (auto& e : errors)
         if (e) std::rethrow_exception(e);
+
+    // Shapes with no material get the default one, created only when needed.
+    for (ShapeRecord& r : m_shapes)
+        if (!r.material) r.material = default_material(m_sources[r.source].loc);
 
     // Step 2: world-space meshes. A source used once is moved, an instanced one copied.
     m_desc.meshes.resize(m_shapes.size());
