@@ -1,25 +1,164 @@
-// Placeholder until the material factories land (replaced by the materials work).
+// The `Material` directive's factory: pbrt-v4's parameter names and defaults for diffuse,
+// conductor, dielectric, coateddiffuse and diffusetransmission.
 #include "materials/create.h"
+
+#include "materials/materials.h"
+#include "materials/textures.h"
 
 namespace ml {
 
-std::shared_ptr<const Image> ImageCache::get(const std::string& path, const FileLoc& loc) {
-    auto it = images.find(path);
-    if (it != images.end()) return it->second;
-    auto img = std::make_shared<const Image>(read_image(path, loc));
-    images[path] = img;
-    return img;
+namespace {
+
+class MaterialParams {
+public:
+    MaterialParams(const ParameterList& params, const NamedTextures& textures)
+        : m_params(params), m_textures(textures) {}
+
+    bool has(const std::string& name) const { return m_params.has(name); }
+
+    // A float value, or a float texture by name.
+    FloatParam get_float(const std::string& name, float def) const {
+        const Param* p = m_params.find(name);
+        FloatParam out{def, nullptr};
+        if (!p) return out;
+        if (p->type == "texture") {
+            std::string tname = m_params.get_texture(name);
+            auto it = m_textures.floats.find(tname);
+            if (it == m_textures.floats.end())
+                throw_input_error(p->loc, "undefined float texture \"{}\"", tname);
+            out.tex = it->second;
+            if (auto* c = dynamic_cast<const ConstantFloatTexture*>(out.tex.get())) {
+                out.value = c->value();
+                out.tex = nullptr;
+            }
+            return out;
+        }
+        out.value = m_params.get_float(name, def);
+        return out;
+    }
+
+    // A colour (rgb, spectrum, blackbody, or a single float), or a spectrum texture by name (a
+    // float texture is accepted as grey).
+    RGBParam get_rgb(const std::string& name, RGB def) const {
+        const Param* p = m_params.find(name);
+        RGBParam out{def, nullptr};
+        if (!p) return out;
+        if (p->type == "texture") {
+            std::string tname = m_params.get_texture(name);
+            if (auto it = m_textures.rgbs.find(tname); it != m_textures.rgbs.end()) {
+                out.tex = it->second;
+            } else if (auto itf = m_textures.floats.find(tname); itf != m_textures.floats.end()) {
+                out.tex = std::make_shared<FloatAsRGBTexture>(itf->second);
+            } else {
+                throw_input_error(p->loc, "undefined spectrum texture \"{}\"", tname);
+            }
+            if (auto* c = dynamic_cast<const ConstantRGBTexture*>(out.tex.get())) {
+                out.value = c->value();
+                out.tex = nullptr;
+            }
+            return out;
+        }
+        if (p->type == "float") {
+            out.value = RGB(m_params.get_float(name, 0));
+            return out;
+        }
+        out.value = m_params.get_rgb(name).value_or(def);
+        return out;
+    }
+
+    RoughnessParams roughness(float def) const {
+        RoughnessParams r;
+        FloatParam both = get_float("roughness", def);
+        r.u = has("uroughness") ? get_float("uroughness", def) : both;
+        r.v = has("vroughness") ? get_float("vroughness", def) : both;
+        r.remap = m_params.get_bool("remaproughness", true);
+        return r;
+    }
+
+    std::shared_ptr<FloatTexture> displacement() const {
+        if (!has("displacement")) return nullptr;
+        FloatParam d = get_float("displacement", 0);
+        if (d.tex) return d.tex;
+        // A constant displacement moves the surface but leaves its normal alone.
+        return nullptr;
+    }
+
+    const ParameterList& list() const { return m_params; }
+
+private:
+    const ParameterList& m_params;
+    const NamedTextures& m_textures;
+};
+
+const FileLoc& loc_of(const ParameterList& params, const std::string& name, const FileLoc& def) {
+    for (const Param& p : params.params())
+        if (p.name == name) return p.loc;
+    return def;
 }
 
-void create_texture(const std::string& name, const std::string& kind, const std::string& cls,
-                    const ParameterList& params, const std::string& base_dir,
-                    NamedTextures& textures, ImageCache& images, const FileLoc& loc) {
-    throw_input_error(loc, "texture class \"{}\" is not supported yet", cls);
-}
+RGB named_or_die(const char* name) { return named_spectrum_rgb(name).value_or(RGB(1)); }
+
+}  // namespace
 
 std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
                                           const NamedTextures& textures, const FileLoc& loc) {
-    throw_input_error(loc, "material \"{}\" is not supported yet", type);
+    MaterialParams mp(params, textures);
+    if (params.has("normalmap"))
+        throw_input_error(loc_of(params, "normalmap", loc), "\"normalmap\" is not supported");
+    auto displacement = mp.displacement();
+
+    if (type == "diffuse") {
+        return std::make_unique<DiffuseMaterial>(mp.get_rgb("reflectance", RGB(0.5f)),
+                                                 displacement);
+    }
+    if (type == "diffusetransmission") {
+        RGBParam r = mp.get_rgb("reflectance", RGB(0.25f));
+        RGBParam t = mp.get_rgb("transmittance", RGB(0.25f));
+        float scale = params.get_float("scale", 1);
+        return std::make_unique<DiffuseTransmissionMaterial>(r, t, scale, displacement);
+    }
+    if (type == "conductor") {
+        bool has_reflectance = params.has("reflectance");
+        if (has_reflectance && (params.has("eta") || params.has("k")))
+            throw_input_error(loc_of(params, "reflectance", loc),
+                              "conductor: \"reflectance\" cannot be given with \"eta\" or \"k\"");
+        RGBParam eta = mp.get_rgb("eta", named_or_die("metal-Cu-eta"));
+        RGBParam k = mp.get_rgb("k", named_or_die("metal-Cu-k"));
+        RGBParam reflectance = mp.get_rgb("reflectance", RGB(0));
+        return std::make_unique<ConductorMaterial>(eta, k, reflectance, has_reflectance,
+                                                   mp.roughness(0), displacement);
+    }
+    if (type == "dielectric" || type == "coateddiffuse") {
+        // eta: a float, a float texture, or a spectrum (glasses are constant in RGB; a
+        // spectrally varying one is averaged: no dispersion here).
+        FloatParam eta{1.5f, nullptr};
+        if (const Param* p = params.find("eta")) {
+            if (p->type == "float" || p->type == "texture") {
+                eta = mp.get_float("eta", 1.5f);
+            } else {
+                eta.value = params.get_rgb("eta").value_or(RGB(1.5f)).average();
+            }
+        }
+        if (type == "dielectric")
+            return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), displacement);
+        RGBParam reflectance = mp.get_rgb("reflectance", RGB(0.5f));
+        RoughnessParams roughness = mp.roughness(0);
+        // The random-walk parameters of pbrt-v4's layered model have no effect on the analytic
+        // one; a non-zero medium albedo would need it, so it is refused rather than ignored.
+        mp.get_float("thickness", 0.01f);
+        mp.get_float("g", 0);
+        params.get_int("maxdepth", 10);
+        params.get_int("nsamples", 1);
+        if (params.has("albedo")) {
+            RGBParam albedo = mp.get_rgb("albedo", RGB(0));
+            if (albedo.tex || !albedo.value.is_black())
+                throw_input_error(loc_of(params, "albedo", loc),
+                                  "coateddiffuse: a non-zero \"albedo\" (scattering coat) is not "
+                                  "supported");
+        }
+        return std::make_unique<CoatedDiffuseMaterial>(reflectance, eta, roughness, displacement);
+    }
+    throw_input_error(loc, "unknown material type \"{}\"", type);
 }
 
 }  // namespace ml

@@ -1,0 +1,110 @@
+// Materials: texture lookups, bump mapping and Bxdf construction at a hit.
+#include "materials/materials.h"
+
+#include "materials/bxdfs.h"
+#include "materials/fresnel.h"
+
+namespace ml {
+
+Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displacement) {
+    if (!displacement) return Frame::from_normal_tangent(si.ns, si.dpdu);
+    // Displace the surface along ns by d(u, v) and differentiate by finite differences.
+    constexpr float kDelta = 0.0005f;
+    TextureEvalContext ctx{si.p, si.uv};
+    TextureEvalContext cu{si.p + si.dpdu * kDelta, Vec2(si.uv.x + kDelta, si.uv.y)};
+    TextureEvalContext cv{si.p + si.dpdv * kDelta, Vec2(si.uv.x, si.uv.y + kDelta)};
+    float d = displacement->eval(ctx);
+    float du = (displacement->eval(cu) - d) / kDelta;
+    float dv = (displacement->eval(cv) - d) / kDelta;
+    Vec3 dpdu = si.dpdu + si.ns * du, dpdv = si.dpdv + si.ns * dv;
+    Vec3 n = cross(dpdu, dpdv);
+    float l2 = length_squared(n);
+    if (!(l2 > 0) || !std::isfinite(l2)) return Frame::from_normal_tangent(si.ns, si.dpdu);
+    // The bumped normal stays on the side of the geometric normal (pbrt-v4 turns the shading
+    // normal towards n unless the orientation is authoritative, which it is not here).
+    n = face_forward(n / std::sqrt(l2), si.ng);
+    return Frame::from_normal_tangent(n, dpdu);
+}
+
+Bsdf DiffuseMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
+    RGB r = m_reflectance.eval(context(si));
+    r = RGB(std::clamp(r.r, 0.f, 1.f), std::clamp(r.g, 0.f, 1.f), std::clamp(r.b, 0.f, 1.f));
+    return Bsdf(frame(si), si.ng, scratch_new<DiffuseBxdf>(scratch, r));
+}
+
+namespace {
+RGB clamp01(const RGB& c) {
+    return {std::clamp(c.r, 0.f, 1.f), std::clamp(c.g, 0.f, 1.f), std::clamp(c.b, 0.f, 1.f)};
+}
+}  // namespace
+
+Bsdf DiffuseTransmissionMaterial::get_bsdf(const SurfaceInteraction& si,
+                                           ScratchBuffer& scratch) const {
+    TextureEvalContext ctx = context(si);
+    RGB r = clamp01(m_r.eval(ctx) * m_scale), t = clamp01(m_t.eval(ctx) * m_scale);
+    return Bsdf(frame(si), si.ng, scratch_new<DiffuseTransmissionBxdf>(scratch, r, t));
+}
+
+Bsdf ConductorMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
+    TextureEvalContext ctx = context(si);
+    RGB eta, k;
+    if (m_use_reflectance) {
+        // A metal of the given normal-incidence reflectance: eta = 1, k = 2 sqrt(r) / sqrt(1 - r).
+        RGB r = m_reflectance.eval(ctx);
+        r = RGB(std::clamp(r.r, 0.f, 0.9999f), std::clamp(r.g, 0.f, 0.9999f),
+                std::clamp(r.b, 0.f, 0.9999f));
+        eta = RGB(1);
+        k = RGB(2 * std::sqrt(r.r) / std::sqrt(1 - r.r), 2 * std::sqrt(r.g) / std::sqrt(1 - r.g),
+                2 * std::sqrt(r.b) / std::sqrt(1 - r.b));
+    } else {
+        eta = m_eta.eval(ctx);
+        k = m_k.eval(ctx);
+    }
+    return Bsdf(frame(si), si.ng,
+                scratch_new<ConductorBxdf>(scratch, m_roughness.distribution(ctx), eta, k));
+}
+
+Bsdf DielectricMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
+    TextureEvalContext ctx = context(si);
+    float eta = m_eta.eval(ctx);
+    if (eta == 0) eta = 1;
+    return Bsdf(frame(si), si.ng,
+                scratch_new<DielectricBxdf>(scratch, m_roughness.distribution(ctx), eta));
+}
+
+CoatedDiffuseMaterial::CoatedDiffuseMaterial(RGBParam reflectance, FloatParam eta,
+                                             RoughnessParams roughness,
+                                             std::shared_ptr<FloatTexture> displacement)
+    : MaterialBase(std::move(displacement)),
+      m_reflectance(std::move(reflectance)),
+      m_eta(std::move(eta)),
+      m_roughness(std::move(roughness)) {
+    if (!m_eta.tex) {
+        m_fdr_const = fresnel_diffuse_internal(m_eta.value == 0 ? 1.f : m_eta.value);
+    } else {
+        m_fdr_table.reset(new float[kFdrTable]);
+        for (int i = 0; i < kFdrTable; ++i)
+            m_fdr_table[i] = fresnel_diffuse_internal(std::exp2(-2 + 4.f * i / (kFdrTable - 1)));
+    }
+}
+
+float CoatedDiffuseMaterial::fdr(float eta) const {
+    if (!m_fdr_table) return m_fdr_const;
+    // Tabulated over log2(eta) in [-2, 2].
+    float x = std::clamp((std::log2(eta) + 2) / 4, 0.f, 1.f) * (kFdrTable - 1);
+    int i = std::min(int(x), kFdrTable - 2);
+    float t = x - i;
+    return (1 - t) * m_fdr_table[i] + t * m_fdr_table[i + 1];
+}
+
+Bsdf CoatedDiffuseMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
+    TextureEvalContext ctx = context(si);
+    float eta = m_eta.eval(ctx);
+    if (eta == 0) eta = 1;
+    RGB r = clamp01(m_reflectance.eval(ctx));
+    return Bsdf(
+        frame(si), si.ng,
+        scratch_new<CoatedDiffuseBxdf>(scratch, m_roughness.distribution(ctx), eta, r, fdr(eta)));
+}
+
+}  // namespace ml

@@ -1,0 +1,137 @@
+// The materials create_material builds. Parameters that may be textured are held as a constant
+// plus an optional texture, so untextured materials make no virtual texture calls per hit.
+#pragma once
+
+#include <memory>
+
+#include "materials/material.h"
+#include "materials/microfacet.h"
+#include "materials/texture.h"
+
+namespace ml {
+
+struct FloatParam {
+    float value = 0;
+    std::shared_ptr<FloatTexture> tex;
+    float eval(const TextureEvalContext& ctx) const { return tex ? tex->eval(ctx) : value; }
+};
+
+struct RGBParam {
+    RGB value;
+    std::shared_ptr<RGBTexture> tex;
+    RGB eval(const TextureEvalContext& ctx) const { return tex ? tex->eval(ctx) : value; }
+};
+
+// Roughness as pbrt-v4 reads it: u/v roughness (each defaulting to "roughness"), optionally
+// remapped to alpha = sqrt(roughness).
+struct RoughnessParams {
+    FloatParam u, v;
+    bool remap = true;
+    TrowbridgeReitz distribution(const TextureEvalContext& ctx) const {
+        float ur = u.eval(ctx), vr = v.eval(ctx);
+        if (remap) ur = roughness_to_alpha(ur), vr = roughness_to_alpha(vr);
+        return TrowbridgeReitz(ur, vr);
+    }
+};
+
+// The shading frame at a hit: from ns and dpdu, after bump mapping by `displacement` if any
+// (pbrt-v4's BumpMap without ray differentials: finite differences over du = dv = 0.0005, and
+// without the displacement * dn/du term, since meshes here carry no normal derivatives).
+Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displacement);
+
+class MaterialBase : public Material {
+public:
+    explicit MaterialBase(std::shared_ptr<FloatTexture> displacement)
+        : m_displacement(std::move(displacement)) {}
+
+protected:
+    Frame frame(const SurfaceInteraction& si) const {
+        return shading_frame(si, m_displacement.get());
+    }
+    static TextureEvalContext context(const SurfaceInteraction& si) { return {si.p, si.uv}; }
+
+private:
+    std::shared_ptr<FloatTexture> m_displacement;
+};
+
+class DiffuseMaterial final : public MaterialBase {
+public:
+    DiffuseMaterial(RGBParam reflectance, std::shared_ptr<FloatTexture> displacement)
+        : MaterialBase(std::move(displacement)), m_reflectance(std::move(reflectance)) {}
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "diffuse"; }
+
+private:
+    RGBParam m_reflectance;
+};
+
+class DiffuseTransmissionMaterial final : public MaterialBase {
+public:
+    DiffuseTransmissionMaterial(RGBParam r, RGBParam t, float scale,
+                                std::shared_ptr<FloatTexture> displacement)
+        : MaterialBase(std::move(displacement)),
+          m_r(std::move(r)),
+          m_t(std::move(t)),
+          m_scale(scale) {}
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "diffusetransmission"; }
+
+private:
+    RGBParam m_r, m_t;
+    float m_scale;
+};
+
+class ConductorMaterial final : public MaterialBase {
+public:
+    // With `use_reflectance`, eta = 1 and k follows from the reflectance (pbrt-v4's mapping).
+    ConductorMaterial(RGBParam eta, RGBParam k, RGBParam reflectance, bool use_reflectance,
+                      RoughnessParams roughness, std::shared_ptr<FloatTexture> displacement)
+        : MaterialBase(std::move(displacement)),
+          m_eta(std::move(eta)),
+          m_k(std::move(k)),
+          m_reflectance(std::move(reflectance)),
+          m_use_reflectance(use_reflectance),
+          m_roughness(std::move(roughness)) {}
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "conductor"; }
+
+private:
+    RGBParam m_eta, m_k, m_reflectance;
+    bool m_use_reflectance;
+    RoughnessParams m_roughness;
+};
+
+class DielectricMaterial final : public MaterialBase {
+public:
+    DielectricMaterial(FloatParam eta, RoughnessParams roughness,
+                       std::shared_ptr<FloatTexture> displacement)
+        : MaterialBase(std::move(displacement)),
+          m_eta(std::move(eta)),
+          m_roughness(std::move(roughness)) {}
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "dielectric"; }
+
+private:
+    FloatParam m_eta;
+    RoughnessParams m_roughness;
+};
+
+class CoatedDiffuseMaterial final : public MaterialBase {
+public:
+    CoatedDiffuseMaterial(RGBParam reflectance, FloatParam eta, RoughnessParams roughness,
+                          std::shared_ptr<FloatTexture> displacement);
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "coateddiffuse"; }
+
+private:
+    float fdr(float eta) const;
+    RGBParam m_reflectance;
+    FloatParam m_eta;
+    RoughnessParams m_roughness;
+    // Fdr(eta) tabulated over eta in [1/4, 4] for textured eta; exact for a constant one.
+    static constexpr int kFdrTable = 256;
+    float m_fdr_const = 0;
+    std::unique_ptr<float[]> m_fdr_table;
+};
+
+}  // namespace ml

@@ -1,0 +1,253 @@
+// Texture lookups and the `Texture` directive's factory.
+#include "materials/textures.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "materials/create.h"
+
+namespace ml {
+
+// ---- image lookups ----
+
+RGB ImageLookup::texel(int x, int y) const {
+    const int w = m_image->width, h = m_image->height;
+    switch (m_wrap) {
+        case WrapMode::Repeat:
+            x %= w;
+            y %= h;
+            if (x < 0) x += w;
+            if (y < 0) y += h;
+            break;
+        case WrapMode::Clamp:
+            x = std::clamp(x, 0, w - 1);
+            y = std::clamp(y, 0, h - 1);
+            break;
+        case WrapMode::Black:
+            if (x < 0 || x >= w || y < 0 || y >= h) return RGB();
+            break;
+    }
+    return m_image->at(x, y);
+}
+
+RGB ImageLookup::lookup(const Vec2& uv) const {
+    Vec2 st = m_mapping.map(uv);
+    st.y = 1 - st.y;  // image rows run top to bottom; v runs bottom to top
+    float x = st.x * m_image->width, y = st.y * m_image->height;
+    if (m_point) return texel(int(std::floor(x)), int(std::floor(y)));
+    // Bilinear between the four nearest texel centres.
+    x -= 0.5f;
+    y -= 0.5f;
+    float fx = std::floor(x), fy = std::floor(y);
+    int xi = int(fx), yi = int(fy);
+    float dx = x - fx, dy = y - fy;
+    return texel(xi, yi) * ((1 - dx) * (1 - dy)) + texel(xi + 1, yi) * (dx * (1 - dy)) +
+           texel(xi, yi + 1) * ((1 - dx) * dy) + texel(xi + 1, yi + 1) * (dx * dy);
+}
+
+RGB ImageRGBTexture::eval(const TextureEvalContext& ctx) const {
+    RGB v = m_lookup.lookup(ctx.uv) * m_scale;
+    return clamp_zero(m_invert ? RGB(1) - v : v);
+}
+
+float ImageFloatTexture::eval(const TextureEvalContext& ctx) const {
+    float v = m_lookup.lookup(ctx.uv).r * m_scale;
+    return m_invert ? std::max(0.f, 1 - v) : v;
+}
+
+// ---- loading ----
+
+std::shared_ptr<const Image> ImageCache::get(const std::string& path, const FileLoc& loc) {
+    auto it = images.find(path);
+    if (it != images.end()) return it->second;
+    auto img = std::make_shared<const Image>(read_image(path, loc));
+    images[path] = img;
+    return img;
+}
+
+namespace {
+
+struct Encoding {
+    enum Kind { Linear, SRGB, Gamma } kind = Linear;
+    float gamma = 1;
+    std::string key() const {
+        return kind == Linear ? "linear" : kind == SRGB ? "sRGB" : "gamma " + std::to_string(gamma);
+    }
+};
+
+Encoding parse_encoding(const std::string& s, const FileLoc& loc) {
+    if (s == "linear") return {Encoding::Linear, 1};
+    if (s == "sRGB") return {Encoding::SRGB, 1};
+    if (s.rfind("gamma ", 0) == 0) {
+        try {
+            size_t used = 0;
+            float g = std::stof(s.substr(6), &used);
+            if (used == s.size() - 6 && g > 0 && std::isfinite(g)) return {Encoding::Gamma, g};
+        } catch (const std::exception&) {
+        }
+    }
+    throw_input_error(loc,
+                      "unknown color encoding \"{}\" (expected \"sRGB\", \"linear\" or "
+                      "\"gamma <value>\")",
+                      s);
+}
+
+bool has_extension(const std::string& path, const std::string& ext) {
+    std::string e = std::filesystem::path(path).extension().string();
+    if (e.size() != ext.size() + 1) return false;
+    for (size_t i = 0; i < ext.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(e[i + 1])) != ext[i]) return false;
+    return true;
+}
+
+// The image of `path` with linear values. pbrt-v4's rules, which we follow:
+// - "encoding" defaults to "sRGB" for files named *.png and to "linear" for every other file;
+// - the encoding only applies to integer-valued (8- or 16-bit) PNG data. Floating-point files
+//   (EXR, PFM, HDR) are linear whatever it says, and pbrt-v4 reads other 8-bit formats (JPEG,
+//   TGA, BMP ...) as sRGB regardless of it.
+// The decode happens once per (file, encoding), into a float copy kept in the cache under a
+// derived key; the raw 8-bit image is dropped from the cache once decoded.
+std::shared_ptr<const Image> linear_image(ImageCache& cache, const std::string& path,
+                                          const Encoding& requested, const FileLoc& loc) {
+    Encoding enc = requested;
+    if (!has_extension(path, "png")) enc = Encoding{Encoding::SRGB, 1};
+    const std::string key = path + "\n[decoded " + enc.key() + "]";
+    if (auto it = cache.images.find(key); it != cache.images.end()) return it->second;
+    std::shared_ptr<const Image> raw = cache.get(path, loc);
+    if (!raw->low_dynamic_range || enc.kind == Encoding::Linear) return raw;
+    auto decoded = std::make_shared<Image>(*raw);
+    decoded->low_dynamic_range = false;
+    // 8-bit data has 256 values per channel: decode through a table, not a pow per texel.
+    float table[256];
+    for (int i = 0; i < 256; ++i) {
+        float v = i / 255.f;
+        table[i] = enc.kind == Encoding::SRGB ? srgb_to_linear(v) : std::pow(v, enc.gamma);
+    }
+    auto decode = [&](float v) {
+        float s = v * 255.f;
+        int i = int(std::lround(s));
+        if (i >= 0 && i <= 255 && std::abs(s - i) < 1e-3f) return table[i];
+        v = std::clamp(v, 0.f, 1.f);  // 16-bit data
+        return enc.kind == Encoding::SRGB ? srgb_to_linear(v) : std::pow(v, enc.gamma);
+    };
+    for (RGB& p : decoded->pixels) p = RGB(decode(p.r), decode(p.g), decode(p.b));
+    cache.images.erase(path);
+    cache.images[key] = decoded;
+    return decoded;
+}
+
+std::string resolve_path(const std::string& name, const std::string& base_dir) {
+    std::filesystem::path p(name);
+    if (p.is_absolute() || base_dir.empty()) return name;
+    return (std::filesystem::path(base_dir) / p).lexically_normal().string();
+}
+
+UVMapping parse_mapping(const ParameterList& params, const FileLoc& loc) {
+    std::string type = params.get_string("mapping", "uv");
+    if (type != "uv")
+        throw_input_error(loc, "texture mapping \"{}\" is not supported (only \"uv\")", type);
+    UVMapping m;
+    m.su = params.get_float("uscale", 1);
+    m.sv = params.get_float("vscale", 1);
+    m.du = params.get_float("udelta", 0);
+    m.dv = params.get_float("vdelta", 0);
+    return m;
+}
+
+WrapMode parse_wrap(const std::string& s, const FileLoc& loc) {
+    if (s == "repeat") return WrapMode::Repeat;
+    if (s == "black") return WrapMode::Black;
+    if (s == "clamp") return WrapMode::Clamp;
+    throw_input_error(loc, "unknown wrap mode \"{}\" (expected repeat, black or clamp)", s);
+}
+
+const FileLoc& loc_of(const ParameterList& params, const std::string& name, const FileLoc& def) {
+    for (const Param& p : params.params())
+        if (p.name == name) return p.loc;
+    return def;
+}
+
+ImageLookup make_image_lookup(const ParameterList& params, const std::string& base_dir,
+                              ImageCache& images, const FileLoc& loc) {
+    UVMapping mapping = parse_mapping(params, loc);
+    std::string filter = params.get_string("filter", "bilinear");
+    if (filter != "point" && filter != "bilinear" && filter != "trilinear" && filter != "ewa")
+        throw_input_error(loc_of(params, "filter", loc),
+                          "unknown texture filter \"{}\" (expected point, bilinear, trilinear or "
+                          "ewa)",
+                          filter);
+    params.get_float("maxanisotropy", 8);  // accepted for EWA; we filter bilinearly
+    WrapMode wrap = parse_wrap(params.get_string("wrap", "repeat"), loc_of(params, "wrap", loc));
+    std::string filename = params.get_string("filename", "");
+    if (filename.empty()) throw_input_error(loc, "imagemap texture needs a \"filename\"");
+    std::string path = resolve_path(filename, base_dir);
+    std::string enc_default = has_extension(path, "png") ? "sRGB" : "linear";
+    Encoding enc =
+        parse_encoding(params.get_string("encoding", enc_default), loc_of(params, "encoding", loc));
+    auto image = linear_image(images, path, enc, loc_of(params, "filename", loc));
+    if (image->width <= 0 || image->height <= 0)
+        throw_input_error(loc, "image \"{}\" is empty", path);
+    return ImageLookup(image, mapping, wrap, filter == "point");
+}
+
+}  // namespace
+
+void create_texture(const std::string& name, const std::string& kind, const std::string& cls,
+                    const ParameterList& params, const std::string& base_dir,
+                    NamedTextures& textures, ImageCache& images, const FileLoc& loc) {
+    const bool is_float = kind == "float";
+    if (!is_float && kind != "spectrum")
+        throw_input_error(loc, "unknown texture kind \"{}\" (expected \"float\" or \"spectrum\")",
+                          kind);
+
+    // A named texture argument of a texture (e.g. "scale"'s "tex") or a constant value.
+    auto float_arg = [&](const std::string& pname, float def) -> std::shared_ptr<FloatTexture> {
+        const Param* p = params.find(pname);
+        if (p && p->type == "texture") {
+            std::string tname = params.get_texture(pname);
+            auto it = textures.floats.find(tname);
+            if (it == textures.floats.end())
+                throw_input_error(p->loc, "undefined float texture \"{}\"", tname);
+            return it->second;
+        }
+        return std::make_shared<ConstantFloatTexture>(params.get_float(pname, def));
+    };
+    auto rgb_arg = [&](const std::string& pname, RGB def) -> std::shared_ptr<RGBTexture> {
+        const Param* p = params.find(pname);
+        if (p && p->type == "texture") {
+            std::string tname = params.get_texture(pname);
+            if (auto it = textures.rgbs.find(tname); it != textures.rgbs.end()) return it->second;
+            if (auto it = textures.floats.find(tname); it != textures.floats.end())
+                return std::make_shared<FloatAsRGBTexture>(it->second);
+            throw_input_error(p->loc, "undefined spectrum texture \"{}\"", tname);
+        }
+        if (p && p->type == "float")
+            return std::make_shared<ConstantRGBTexture>(RGB(params.get_float(pname, 1)));
+        return std::make_shared<ConstantRGBTexture>(params.get_rgb(pname).value_or(def));
+    };
+
+    if (cls == "constant") {
+        if (is_float)
+            textures.floats[name] = float_arg("value", 1);
+        else
+            textures.rgbs[name] = rgb_arg("value", RGB(1));
+    } else if (cls == "scale") {
+        auto scale = float_arg("scale", 1);
+        if (is_float)
+            textures.floats[name] = std::make_shared<ScaleFloatTexture>(float_arg("tex", 1), scale);
+        else
+            textures.rgbs[name] = std::make_shared<ScaleRGBTexture>(rgb_arg("tex", RGB(1)), scale);
+    } else if (cls == "imagemap") {
+        ImageLookup lookup = make_image_lookup(params, base_dir, images, loc);
+        float scale = params.get_float("scale", 1);
+        bool invert = params.get_bool("invert", false);
+        if (is_float)
+            textures.floats[name] = std::make_shared<ImageFloatTexture>(lookup, scale, invert);
+        else
+            textures.rgbs[name] = std::make_shared<ImageRGBTexture>(lookup, scale, invert);
+    } else {
+        throw_input_error(loc, "unknown or unsupported texture class \"{}\"", cls);
+    }
+}
+
+}  // namespace ml
