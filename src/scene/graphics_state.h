@@ -2,6 +2,7 @@
 // graphics state), the scopes that save and restore them, and shapes waiting to be built.
 #pragma once
 
+#include <exception>
 #include <map>
 #include <memory>
 #include <string>
@@ -41,9 +42,10 @@ struct Scope {
 // file after parsing, in parallel with the others.
 struct MeshSource {
     std::unique_ptr<TriangleMesh> mesh;
-    std::string ply_path;  // non-empty: still to be read
-    FileLoc loc;           // for errors about the file
-    int uses = 0;          // shapes built from it (instancing reuses sources)
+    std::string ply_path;      // non-empty: still to be read
+    FileLoc loc;               // for errors about the file
+    int uses = 0;              // shapes built from it (instancing reuses sources)
+    std::exception_ptr error;  // a failed PLY read, reported in file order at the end
 };
 
 // One world-space mesh to produce from a source.

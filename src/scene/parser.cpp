@@ -362,8 +362,8 @@ void Parser::directive(const Token& t) {
 
 SceneDesc parse_scene_file(const std::string& path) {
     auto main = std::make_unique<Tokenizer>(Tokenizer::from_file(path, FileLoc{path}));
-    std::string base = fs::path(path).parent_path().string();
-    if (base.empty()) base = ".";
+    fs::path dir = fs::path(path).parent_path();
+    std::string base = dir.empty() ? std::string(".") : dir.string();
     Parser parser(std::move(main), base, canonical(path));
     return parser.parse();
 }

@@ -13,6 +13,11 @@ namespace ml {
 
 SceneBuilder::SceneBuilder(std::string base_dir) { m_desc.base_dir = std::move(base_dir); }
 
+SceneBuilder::~SceneBuilder() {
+    m_loads.cancel();
+    m_loads.wait();
+}
+
 void SceneBuilder::require_options(const std::string& directive, const FileLoc& loc) const {
     if (m_in_world)
         throw_input_error(loc, "\"{}\" is not allowed after WorldBegin (it belongs before it)",
@@ -264,6 +269,17 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
     }
     params.check_unused();
     m_sources.push_back(std::move(src));
+    if (!m_sources.back().ply_path.empty()) {
+        // Read the file while parsing goes on (textures load meanwhile on this thread).
+        MeshSource* s = &m_sources.back();
+        m_loads.run([s] {
+            try {
+                s->mesh = load_ply(s->ply_path, s->loc);
+            } catch (...) {
+                s->error = std::current_exception();
+            }
+        });
+    }
     add_shape(m_sources.size() - 1);
 }
 
@@ -287,21 +303,10 @@ SceneDesc SceneBuilder::finish() {
                           scope_name(s.kind), scope_end_name(s.kind));
     }
 
-    // Step 1: read the PLY files in parallel; report the first failure in file order.
-    std::vector<size_t> plys;
-    for (size_t i = 0; i < m_sources.size(); ++i)
-        if (!m_sources[i].ply_path.empty()) plys.push_back(i);
-    std::vector<std::exception_ptr> errors(plys.size());
-    tbb::parallel_for(size_t(0), plys.size(), [&](size_t k) {
-        MeshSource& s = m_sources[plys[k]];
-        try {
-            s.mesh = load_ply(s.ply_path, s.loc);
-        } catch (...) {
-            errors[k] = std::current_exception();
-        }
-    });
-    for (auto& e : errors)
-        if (e) std::rethrow_exception(e);
+    // Step 1: the PLY reads started while parsing; report the first failure in file order.
+    m_loads.wait();
+    for (const MeshSource& s : m_sources)
+        if (s.error) std::rethrow_exception(s.error);
 
     // Shapes with no material get the default one, created only when needed.
     for (ShapeRecord& r : m_shapes)

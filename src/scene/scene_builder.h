@@ -3,6 +3,9 @@
 // that become the SceneDesc. The parser (parser.cpp) calls one method per directive.
 #pragma once
 
+#include <tbb/task_group.h>
+
+#include <deque>
 #include <map>
 #include <string>
 #include <vector>
@@ -16,6 +19,10 @@ namespace ml {
 class SceneBuilder {
 public:
     explicit SceneBuilder(std::string base_dir);
+    // Waits for PLY reads still running when parsing stopped at an error.
+    ~SceneBuilder();
+    SceneBuilder(const SceneBuilder&) = delete;
+    SceneBuilder& operator=(const SceneBuilder&) = delete;
 
     // pbrt-v4 splits a scene into options (before WorldBegin) and the world; each directive
     // belongs to one of them.
@@ -73,7 +80,9 @@ private:
     std::map<std::string, const Material*> m_named_materials;
     const Material* m_default_material = nullptr;
     ImageCache m_images;
-    std::vector<MeshSource> m_sources;
+    // A deque: PLY reads running in m_loads hold pointers to their sources while more are added.
+    std::deque<MeshSource> m_sources;
+    tbb::task_group m_loads;
     std::vector<ShapeRecord> m_shapes;
     std::map<std::string, ObjectDef> m_objects;
     ObjectDef* m_current_object = nullptr;  // inside ObjectBegin ... ObjectEnd

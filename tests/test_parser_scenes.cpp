@@ -1,0 +1,79 @@
+// Every shared scene parsed end to end (materials, textures and lights from their factories).
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "scene/scene_desc.h"
+
+using namespace ml;
+
+namespace {
+
+struct Loaded {
+    SceneDesc desc;
+    size_t triangles = 0;
+    size_t area_lights = 0;
+    double seconds = 0;
+};
+
+Loaded load(const std::string& rel) {
+    Loaded l;
+    auto t0 = std::chrono::steady_clock::now();
+    l.desc = parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) + "/scenes/" + rel);
+    l.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const auto& m : l.desc.meshes) {
+        l.triangles += m->triangle_count();
+        l.area_lights += m->area_light != nullptr;
+        EXPECT_NE(m->material, nullptr);
+        for (const Vec3& p : m->p) EXPECT_TRUE(is_finite(p));
+    }
+    return l;
+}
+
+}  // namespace
+
+TEST(ParserScenes, CornellBox) {
+    Loaded l = load("cornell-box/scene-v4.pbrt");
+    EXPECT_EQ(l.triangles, 36u);
+    EXPECT_EQ(l.area_lights, 1u);
+    EXPECT_EQ(l.desc.lights.size(), 1u);
+    EXPECT_EQ(l.desc.camera.name, "perspective");
+}
+
+TEST(ParserScenes, CornellBoxPointLights) {
+    Loaded l = load("cornell-box/scene-pointlights-4096.pbrt");
+    EXPECT_EQ(l.triangles, 34u);  // the box without its light quad
+    EXPECT_EQ(l.desc.lights.size(), 4096u + l.area_lights);
+}
+
+TEST(ParserScenes, VeachMis) {
+    Loaded l = load("veach-mis/scene-v4.pbrt");
+    EXPECT_GT(l.triangles, 0u);
+    EXPECT_GE(l.desc.lights.size(), 3u);  // three sphere lights and more
+}
+
+TEST(ParserScenes, VeachBidir) {
+    Loaded l = load("veach-bidir/scene-v4.pbrt");
+    EXPECT_GT(l.triangles, 10000u);
+    EXPECT_GE(l.area_lights, 2u);
+}
+
+TEST(ParserScenes, Kitchen) {
+    Loaded l = load("kitchen/scene-v4.pbrt");
+    EXPECT_GT(l.triangles, 1'400'000u);
+    EXPECT_GE(l.area_lights, 1u);
+    std::printf("kitchen: %zu meshes, %zu triangles, %zu lights, parsed and loaded in %.3f s\n",
+                l.desc.meshes.size(), l.triangles, l.desc.lights.size(), l.seconds);
+}
+
+TEST(ParserScenes, Classroom) {
+    Loaded l = load("classroom/scene-v4.pbrt");
+    EXPECT_GT(l.triangles, 100'000u);
+    EXPECT_GE(l.desc.lights.size(), 2u);  // sun and sky
+}
+
+TEST(ParserScenes, Coffee) {
+    Loaded l = load("coffee/scene-v4.pbrt");
+    EXPECT_GT(l.triangles, 200'000u);
+    EXPECT_GE(l.area_lights, 1u);
+}
