@@ -18,6 +18,17 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
+// Debian 12's OpenImageIO 2.4 reads PFM but its pnm writer only writes 8/16-bit PNM, so the
+// PFM writer is these few lines: the header, then little-endian float rows from the bottom up.
+bool write_pfm(const std::string& path, int w, int h, const std::vector<float>& rgb) {
+    FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) return false;
+    bool ok = std::fprintf(f, "PF\n%d %d\n-1.0\n", w, h) > 0;
+    for (int y = h - 1; y >= 0 && ok; --y)
+        ok = std::fwrite(&rgb[size_t(y) * w * 3], sizeof(float), size_t(w) * 3, f) == size_t(w) * 3;
+    return std::fclose(f) == 0 && ok;
+}
+
 }  // namespace
 
 Image read_image(const std::string& path, const FileLoc& loc) {
@@ -75,11 +86,18 @@ void write_image(const std::string& path, const Image& image) {
             data[i * 3 + k] = v;
         }
     if (ext == ".exr") spec.attribute("compression", "zip");
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    bool ok = out && out->open(tmp.string(), spec) &&
-              out->write_image(OIIO::TypeDesc::FLOAT, data.data()) && out->close();
+    bool ok;
+    std::string err;
+    if (ext == ".pfm") {
+        ok = write_pfm(tmp.string(), w, h, data);
+        err = "write failed";
+    } else {
+        auto out = OIIO::ImageOutput::create(tmp.string());
+        ok = out && out->open(tmp.string(), spec) &&
+             out->write_image(OIIO::TypeDesc::FLOAT, data.data()) && out->close();
+        if (!ok) err = out ? out->geterror() : OIIO::geterror();
+    }
     if (!ok) {
-        std::string err = out ? out->geterror() : OIIO::geterror();
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
         throw std::runtime_error("cannot write \"" + path + "\": " + err);

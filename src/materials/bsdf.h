@@ -65,7 +65,7 @@ public:
     Bsdf(const Frame& shading, const Vec3& ng, const Bxdf* bxdf)
         : m_frame(shading), m_ng(ng), m_bxdf(bxdf) {}
     explicit operator bool() const { return m_bxdf != nullptr; }
-    uint8_t flags() const { return m_bxdf ? m_bxdf->flags() : kBxdfNone; }
+    uint8_t flags() const { return m_bxdf ? m_bxdf->flags() : uint8_t(kBxdfNone); }
     bool is_specular_only() const {
         uint8_t f = flags();
         return (f & kBxdfSpecular) && !(f & (kBxdfDiffuse | kBxdfGlossy));
