@@ -1,6 +1,7 @@
 // The pbrt-v4 parser on good input: transforms, scopes, shapes, orientation, Include, instancing.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "geometry/shapes.h"
@@ -210,4 +211,33 @@ TEST(ParserTokens, StringsEscapesCommentsAndNumbers) {
     EXPECT_TRUE(d.film.params.get_bool("flag", false));
     EXPECT_FALSE(d.film.params.get_bool("other", true));
     EXPECT_EQ(d.film.params.find("iso")->loc.line, 3);
+}
+
+TEST(ParserShapes, BilinearMeshBecomesTwoTriangles) {
+    SceneDesc d = parse_scene_string(
+        "WorldBegin\nShape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n", ".");
+    ASSERT_EQ(d.meshes.size(), 1u);
+    EXPECT_EQ(d.meshes[0]->triangle_count(), 2u);
+    EXPECT_NEAR(total_area(*d.meshes[0]), 1.0, 1e-6);
+    // As pbrt's patch: the normal is cross(p10 - p00, p01 - p00) = +z.
+    EXPECT_GT(d.meshes[0]->triangle_normal(0).z, 0.99f);
+    EXPECT_GT(d.meshes[0]->triangle_normal(1).z, 0.99f);
+}
+
+TEST(ParserInclude, LargeInlineMeshParsesQuickly) {
+    // 200k vertices and 100k triangles written inline, as exporters do.
+    std::string text = "WorldBegin\nShape \"trianglemesh\" \"point3 P\" [\n";
+    const int n = 200000;
+    for (int i = 0; i < n; ++i) text += std::to_string(i * 0.001) + " 0.5 -1.25e-1\n";
+    text += "] \"integer indices\" [\n";
+    for (int i = 0; i + 2 < n; i += 2)
+        text +=
+            std::to_string(i) + " " + std::to_string(i + 1) + " " + std::to_string(i + 2) + "\n";
+    text += "]\n";
+    auto t0 = std::chrono::steady_clock::now();
+    SceneDesc d = parse_scene_string(text, ".");
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_EQ(d.meshes.size(), 1u);
+    EXPECT_EQ(d.meshes[0]->p.size(), size_t(n));
+    EXPECT_LT(s, 2.0);
 }

@@ -261,3 +261,15 @@ TEST(BadInput, UndefinedObjectAndCoordinateSystem) {
     expect_scene_error("WorldBegin\nObjectInstance \"nope\"\n", 2, 1, "undefined object");
     expect_scene_error("CoordSysTransform \"nope\"\n", 1, 1, "unknown coordinate system");
 }
+
+TEST(BadInput, FirstBadPlyInFileOrder) {
+    // PLY files load in parallel; the error reported is the first one in the file.
+    ScratchDir dir;
+    dir.write("bad.ply", "ply\nformat binary_little_endian 1.0\nelement vertex\nend_header\n");
+    std::string main = dir.write("scene.pbrt",
+                                 "WorldBegin\nShape \"plymesh\" \"string filename\" \"bad.ply\"\n"
+                                 "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n"
+                                 "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n");
+    for (int i = 0; i < 5; ++i)
+        expect_input_error([&] { parse_scene_file(main); }, main, 2, 17, "malformed PLY header");
+}

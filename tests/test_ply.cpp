@@ -144,3 +144,31 @@ TEST(Ply, BadIndicesAndValues) {
     bad[bad.size() - 13] = char(200);
     expect_ply_error(dir.write("l.ply", bad), "truncated");
 }
+
+TEST(Ply, RandomCorruptionNeverCrashes) {
+    ScratchDir dir;
+    std::string ply = test::read_file(std::string(MANYLIGHT_SHARED_DIR) +
+                                      "/scenes/veach-bidir/models/Mesh001.ply");
+    size_t header = ply.find("end_header\n") + 11;
+    uint32_t state = 12345;
+    auto rnd = [&] { return state = state * 1664525u + 1013904223u; };
+    int errors = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        std::string bad = ply;
+        // Flip a few bytes in the body (face list lengths and indices included), or one in the
+        // header now and then.
+        int flips = 1 + rnd() % 4;
+        for (int k = 0; k < flips; ++k) {
+            size_t at = trial % 10 == 0 ? rnd() % header : header + rnd() % (bad.size() - header);
+            bad[at] = char(rnd() >> 24);
+        }
+        std::string path = dir.write("bad.ply", bad);
+        try {
+            auto m = load_ply(path, {});
+            for (uint32_t i : m->indices) ASSERT_LT(i, m->p.size());
+        } catch (const InputError&) {
+            ++errors;
+        }
+    }
+    EXPECT_GT(errors, 0);
+}

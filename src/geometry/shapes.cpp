@@ -54,6 +54,41 @@ std::unique_ptr<TriangleMesh> make_triangle_mesh(const ParameterList& params, co
     return mesh;
 }
 
+std::unique_ptr<TriangleMesh> make_bilinear_mesh(const ParameterList& params, const FileLoc& loc) {
+    const Param* i_param = params.find("indices");
+    std::vector<int> idx = params.get_ints("indices");
+    std::vector<Vec3> p = params.get_point3s("P");
+    if (!i_param && p.size() == 4) idx = {0, 1, 2, 3};
+    FileLoc iloc = i_param ? i_param->loc : loc;
+    if (idx.empty() || idx.size() % 4 != 0)
+        throw_input_error(iloc, "bilinearmesh: needs a non-empty multiple of 4 indices, got {}",
+                          idx.size());
+    // Reuse the triangle mesh checks on the split patches.
+    auto mesh = std::make_unique<TriangleMesh>();
+    mesh->p = std::move(p);
+    if (mesh->p.empty()) throw_input_error(loc, "bilinearmesh: \"point3 P\" is required");
+    for (size_t k = 0; k < idx.size(); ++k)
+        if (idx[k] < 0 || size_t(idx[k]) >= mesh->p.size())
+            throw_input_error(
+                iloc, "bilinearmesh: index {} (entry {}) is out of range: there are {} vertices",
+                idx[k], k, mesh->p.size());
+    for (size_t k = 0; k < idx.size(); k += 4) {
+        uint32_t v00 = idx[k], v10 = idx[k + 1], v01 = idx[k + 2], v11 = idx[k + 3];
+        mesh->indices.insert(mesh->indices.end(), {v00, v10, v11, v00, v11, v01});
+    }
+    mesh->n = params.get_normals("N");
+    if (!mesh->n.empty() && mesh->n.size() != mesh->p.size())
+        throw_input_error(params.find("N")->loc,
+                          "bilinearmesh: {} normals \"N\" for {} vertices \"P\"", mesh->n.size(),
+                          mesh->p.size());
+    mesh->uv = params.get_point2s("uv");
+    if (!mesh->uv.empty() && mesh->uv.size() != mesh->p.size())
+        throw_input_error(params.find("uv")->loc,
+                          "bilinearmesh: {} texture coordinates \"uv\" for {} vertices \"P\"",
+                          mesh->uv.size(), mesh->p.size());
+    return mesh;
+}
+
 namespace {
 
 // Resolution of the tessellations: a full sphere gets kThetaSteps x kPhiSteps quads, which keeps

@@ -14,6 +14,8 @@ namespace ml {
 // Each reads its parameters from `params` (the caller checks for unused ones afterwards) and
 // throws InputError at the offending parameter, or at `loc` for what is missing.
 std::unique_ptr<TriangleMesh> make_triangle_mesh(const ParameterList& params, const FileLoc& loc);
+// "bilinearmesh": each patch (p00, p10, p01, p11) split into two triangles along p00-p11.
+std::unique_ptr<TriangleMesh> make_bilinear_mesh(const ParameterList& params, const FileLoc& loc);
 std::unique_ptr<TriangleMesh> make_sphere(const ParameterList& params, const FileLoc& loc);
 std::unique_ptr<TriangleMesh> make_disk(const ParameterList& params, const FileLoc& loc);
 

@@ -245,6 +245,8 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
     src.loc = loc;
     if (type == "trianglemesh") {
         src.mesh = make_triangle_mesh(params, loc);
+    } else if (type == "bilinearmesh") {
+        src.mesh = make_bilinear_mesh(params, loc);
     } else if (type == "sphere") {
         src.mesh = make_sphere(params, loc);
     } else if (type == "disk") {
