@@ -17,6 +17,7 @@ RGB ConductorBxdf::eval(const Vec3& wo, const Vec3& wi, TransportMode) const {
 
 std::optional<BsdfSample> ConductorBxdf::sample(const Vec3& wo, float, const Vec2& u,
                                                 TransportMode) const {
+    if (wo.z == 0) return std::nullopt;
     BsdfSample s;
     s.flags = flags();
     if (m_distrib.effectively_smooth()) {
@@ -26,7 +27,6 @@ std::optional<BsdfSample> ConductorBxdf::sample(const Vec3& wo, float, const Vec
         s.pdf_solid_angle = 1;
         return s;
     }
-    if (wo.z == 0) return std::nullopt;
     Vec3 wm = m_distrib.sample_wm(wo, u);
     Vec3 wi = reflect(wo, wm);
     if (!same_hemisphere(wo, wi)) return std::nullopt;

@@ -50,6 +50,7 @@ RGB DielectricBxdf::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) con
 
 std::optional<BsdfSample> DielectricBxdf::sample(const Vec3& wo, float uc, const Vec2& u,
                                                  TransportMode mode) const {
+    if (wo.z == 0) return std::nullopt;
     BsdfSample s;
     if (smooth()) {
         // Choose reflection or refraction by the Fresnel reflectance itself, so each sample has
@@ -74,7 +75,6 @@ std::optional<BsdfSample> DielectricBxdf::sample(const Vec3& wo, float uc, const
         s.eta = etap;
         return s;
     }
-    if (wo.z == 0) return std::nullopt;
     // Rough: a visible normal, then reflection or refraction about it by its Fresnel term.
     Vec3 wm = m_distrib.sample_wm(wo, u);
     float r = fr_dielectric(dot(wo, wm), m_eta), t = 1 - r;
