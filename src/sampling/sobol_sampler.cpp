@@ -41,7 +41,9 @@ public:
     SobolSampler(int spp, uint64_t seed) : m_spp(spp), m_seed(seed) {}
     int samples_per_pixel() const override { return m_spp; }
     void start_pixel_sample(Point2i pixel, int index, int dimension) override {
-        m_pixel = pixel;
+        // The pixel's hash once per sample; each dimension then costs one more mix.
+        m_pixel_hash = hash_ints(uint64_t(uint32_t(pixel.x)) | (uint64_t(uint32_t(pixel.y)) << 32),
+                                 m_seed);
         m_index = index;
         m_dim = dimension;
     }
@@ -64,8 +66,7 @@ public:
 
 private:
     uint64_t pair_hash(uint64_t dim) const {
-        return hash_ints(uint64_t(uint32_t(m_pixel.x)) | (uint64_t(uint32_t(m_pixel.y)) << 32), dim,
-                         m_seed);
+        return Rng::mix_bits(m_pixel_hash ^ ((dim + 1) * 0x9e3779b97f4a7c15ull));
     }
     // The pixel's spp indices in a random order of their own for this pair; indices beyond spp
     // (progressive rendering past the budget) go through in blocks of spp.
@@ -85,7 +86,7 @@ private:
 
     int m_spp;
     uint64_t m_seed;
-    Point2i m_pixel;
+    uint64_t m_pixel_hash = 0;
     int m_index = 0, m_dim = 0;
 };
 
