@@ -241,3 +241,14 @@ TEST(ParserInclude, LargeInlineMeshParsesQuickly) {
     EXPECT_EQ(d.meshes[0]->p.size(), size_t(n));
     EXPECT_LT(s, 2.0);
 }
+
+TEST(ParserShapes, AttributeGivesDefaultParameters) {
+    SceneDesc d = parse_scene_string(
+        "WorldBegin\nAttributeBegin\nAttribute \"shape\" \"float radius\" 2 \"float bogus\" 1\n"
+        "Shape \"sphere\"\nShape \"sphere\" \"float radius\" 3\nAttributeEnd\nShape \"sphere\"\n",
+        ".");
+    ASSERT_EQ(d.meshes.size(), 3u);
+    EXPECT_NEAR(d.meshes[0]->bounds().hi.z, 2.f, 1e-4f);
+    EXPECT_NEAR(d.meshes[1]->bounds().hi.z, 3.f, 1e-4f);
+    EXPECT_NEAR(d.meshes[2]->bounds().hi.z, 1.f, 1e-4f);  // the scope ended
+}

@@ -26,6 +26,8 @@ struct GraphicsState {
     bool reverse_orientation = false;
     const Material* material = nullptr;  // null: the default material
     std::shared_ptr<const AreaLightSpec> area_light;
+    // `Attribute "shape"|"light"|"material"|"texture" params`: defaults for those directives.
+    std::map<std::string, ParameterList> attributes;
 };
 
 // AttributeBegin saves the whole state, TransformBegin only the transform, ObjectBegin the whole

@@ -312,15 +312,21 @@ void Parser::directive(const Token& t) {
     } else if (d == "Shape") {
         world();
         std::string type = expect_string(t, "shape type");
-        b.shape(type, parse_params(loc), loc);
+        ParameterList params = parse_params(loc);
+        b.apply_attributes("shape", params);
+        b.shape(type, params, loc);
     } else if (d == "Material") {
         world();
         std::string type = expect_string(t, "material type");
-        b.material(type, parse_params(loc), loc);
+        ParameterList params = parse_params(loc);
+        b.apply_attributes("material", params);
+        b.material(type, params, loc);
     } else if (d == "MakeNamedMaterial") {
         world();
         std::string n = expect_string(t, "material name");
-        b.make_named_material(n, parse_params(loc), loc);
+        ParameterList params = parse_params(loc);
+        b.apply_attributes("material", params);
+        b.make_named_material(n, params, loc);
     } else if (d == "NamedMaterial") {
         world();
         b.named_material(expect_string(t, "material name"), loc);
@@ -329,15 +335,21 @@ void Parser::directive(const Token& t) {
         std::string n = expect_string(t, "texture name");
         std::string kind = expect_string(t, "texture type (\"float\" or \"spectrum\")");
         std::string cls = expect_string(t, "texture class");
-        b.texture(n, kind, cls, parse_params(loc), loc);
+        ParameterList params = parse_params(loc);
+        b.apply_attributes("texture", params);
+        b.texture(n, kind, cls, params, loc);
     } else if (d == "LightSource") {
         world();
         std::string type = expect_string(t, "light type");
-        b.light_source(type, parse_params(loc), loc);
+        ParameterList params = parse_params(loc);
+        b.apply_attributes("light", params);
+        b.light_source(type, params, loc);
     } else if (d == "AreaLightSource") {
         world();
         std::string type = expect_string(t, "area light type");
-        b.area_light_source(type, parse_params(loc), loc);
+        ParameterList params = parse_params(loc);
+        b.apply_attributes("light", params);
+        b.area_light_source(type, std::move(params), loc);
     } else if (d == "ObjectBegin") {
         world();
         b.object_begin(expect_string(t, "object name"), loc);
@@ -347,8 +359,12 @@ void Parser::directive(const Token& t) {
     } else if (d == "ObjectInstance") {
         world();
         b.object_instance(expect_string(t, "object name"), loc);
-    } else if (d == "Option" || d == "Attribute" || d == "MakeNamedMedium" ||
-               d == "MediumInterface" || d == "ActiveTransform" || d == "TransformTimes") {
+    } else if (d == "Attribute") {
+        world();
+        std::string target = expect_string(t, "target (shape, light, material, texture)");
+        b.attribute(target, parse_params(loc), loc);
+    } else if (d == "Option" || d == "MakeNamedMedium" || d == "MediumInterface" ||
+               d == "ActiveTransform" || d == "TransformTimes") {
         throw_input_error(loc, "the pbrt-v4 directive \"{}\" is not supported by manylight", name);
     } else {
         double v;

@@ -175,6 +175,35 @@ void SceneBuilder::entity(SceneEntity SceneDesc::*which, const std::string& name
     e.loc = loc;
 }
 
+void SceneBuilder::attribute(const std::string& target, const ParameterList& params,
+                             const FileLoc& loc) {
+    if (target != "shape" && target != "light" && target != "material" && target != "texture")
+        throw_input_error(loc,
+                          "Attribute target \"{}\" is unknown or unsupported (shape, light, "
+                          "material, texture)",
+                          target);
+    ParameterList& list = m_state.attributes[target];
+    for (const Param& p : params.params()) {
+        // A later Attribute overrides an earlier one of the same name.
+        ParameterList kept;
+        for (const Param& q : list.params())
+            if (q.name != p.name) kept.add(q);
+        kept.add(p);
+        list = std::move(kept);
+    }
+}
+
+void SceneBuilder::apply_attributes(const char* target, ParameterList& params) const {
+    auto it = m_state.attributes.find(target);
+    if (it == m_state.attributes.end()) return;
+    for (const Param& a : it->second.params()) {
+        if (params.has(a.name)) continue;
+        Param p = a;
+        p.looked_up = true;
+        params.add(std::move(p));
+    }
+}
+
 void SceneBuilder::material(const std::string& type, const ParameterList& params,
                             const FileLoc& loc) {
     auto m = create_material(type, params, m_desc.textures, loc);

@@ -54,6 +54,11 @@ public:
     void entity(SceneEntity SceneDesc::*which, const std::string& name, ParameterList params,
                 const FileLoc& loc);
 
+    // `Attribute "target" params`, and their use: each directive of that target gets the
+    // parameters it does not set itself. pbrt-v4 does not report unused attributes.
+    void attribute(const std::string& target, const ParameterList& params, const FileLoc& loc);
+    void apply_attributes(const char* target, ParameterList& params) const;
+
     void material(const std::string& type, const ParameterList& params, const FileLoc& loc);
     void make_named_material(const std::string& name, const ParameterList& params,
                              const FileLoc& loc);
