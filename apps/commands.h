@@ -22,6 +22,8 @@ int run_render(const RenderArgs& args);
 struct DiffArgs {
     std::string a, b;
     bool json = false;
+    int block = 0;
+    bool block_average = false;
 };
 void add_diff_command(CLI::App& app, DiffArgs& args);
 int run_diff(const DiffArgs& args);

@@ -1,5 +1,6 @@
 #include "film/image_metrics.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace ml {
@@ -44,16 +45,33 @@ Image box_downsample(const Image& img, int k) {
     return out;
 }
 
-double max_block_rel_diff(const Image& a, const Image& ref, int block, float min_mean) {
+std::vector<BlockDiff> worst_blocks(const Image& a, const Image& ref, int block, int count,
+                                    float min_mean, bool per_channel) {
     Image ba = box_downsample(a, block), br = box_downsample(ref, block);
-    double worst = 0;
-    for (size_t i = 0; i < ba.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            float r = br.pixels[i][c];
-            if (r < min_mean) continue;
-            worst = std::max(worst, double(std::abs(ba.pixels[i][c] - r) / r));
+    std::vector<BlockDiff> all;
+    for (int y = 0; y < ba.height; ++y)
+        for (int x = 0; x < ba.width; ++x) {
+            if (!per_channel) {
+                float r = br.at(x, y).average();
+                if (r >= min_mean) all.push_back({x, y, -1, ba.at(x, y).average(), r});
+                continue;
+            }
+            for (int c = 0; c < 3; ++c) {
+                float r = br.at(x, y)[c];
+                if (r >= min_mean) all.push_back({x, y, c, ba.at(x, y)[c], r});
+            }
         }
-    return worst;
+    size_t n = std::min(all.size(), size_t(std::max(count, 0)));
+    std::partial_sort(all.begin(), all.begin() + n, all.end(),
+                      [](const BlockDiff& p, const BlockDiff& q) { return p.rel() > q.rel(); });
+    all.resize(n);
+    return all;
+}
+
+double max_block_rel_diff(const Image& a, const Image& ref, int block, float min_mean,
+                          bool per_channel) {
+    auto w = worst_blocks(a, ref, block, 1, min_mean, per_channel);
+    return w.empty() ? 0.0 : w[0].rel();
 }
 
 }  // namespace ml

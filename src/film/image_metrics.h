@@ -2,6 +2,9 @@
 // each channel's mean, and block means for structure at a coarser scale.
 #pragma once
 
+#include <cmath>
+#include <vector>
+
 #include "film/image.h"
 
 namespace ml {
@@ -21,6 +24,17 @@ Image box_downsample(const Image& img, int k);
 
 // The largest relative difference of a block's channel mean, over all `block` x `block`
 // blocks, ignoring blocks whose reference mean is below `min_mean` in that channel.
-double max_block_rel_diff(const Image& a, const Image& ref, int block, float min_mean = 1e-3f);
+double max_block_rel_diff(const Image& a, const Image& ref, int block, float min_mean = 1e-3f,
+                          bool per_channel = true);
+
+struct BlockDiff {
+    int x = 0, y = 0, channel = 0;  // block column, row and channel
+    float a = 0, ref = 0;           // the two block means
+    double rel() const { return std::abs(a - ref) / ref; }
+};
+// The `count` blocks with the largest relative difference, worst first: per channel, or of
+// the mean of the three channels (channel = -1 in the result) when `per_channel` is false.
+std::vector<BlockDiff> worst_blocks(const Image& a, const Image& ref, int block, int count,
+                                    float min_mean = 1e-3f, bool per_channel = true);
 
 }  // namespace ml

@@ -21,6 +21,8 @@ const std::string* Settings::override_for(const std::string& key) const {
     auto it = m_overrides.find(key);
     if (it == m_overrides.end()) return nullptr;
     m_used[key] = true;
+    // The command line wins; the scene's value of the same setting counts as read.
+    if (m_scene) m_scene->find(key);
     return &it->second;
 }
 
