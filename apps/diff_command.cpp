@@ -33,7 +33,8 @@ int run_diff(const DiffArgs& a) {
             d.rel_mse, d.rmse, d.mean_a.r, d.mean_a.g, d.mean_a.b, d.mean_b.r, d.mean_b.g,
             d.mean_b.b, d.mean_rel_diff.r, d.mean_rel_diff.g, d.mean_rel_diff.b);
         if (a.block > 0)
-            fmt::print(", \"worst_block_rel_diff\": {:.6g}", blocks.empty() ? 0.0 : blocks[0].rel());
+            fmt::print(", \"worst_block_rel_diff\": {:.6g}",
+                       blocks.empty() ? 0.0 : blocks[0].rel());
         fmt::print("}}\n");
     } else {
         fmt::print("relMSE {:.6g}  RMSE {:.6g}\n", d.rel_mse, d.rmse);
@@ -43,7 +44,8 @@ int run_diff(const DiffArgs& a) {
                    100 * d.mean_rel_diff.g, 100 * d.mean_rel_diff.b);
         for (const BlockDiff& b : blocks)
             fmt::print("block ({:3d},{:3d}) {} {:.5g} vs {:.5g}: {:+.2f}%\n", b.x * a.block,
-                       b.y * a.block, b.channel < 0 ? "avg" : std::string(1, "RGB"[b.channel]), b.a, b.ref, 100 * (b.a - b.ref) / b.ref);
+                       b.y * a.block, b.channel < 0 ? "avg" : std::string(1, "RGB"[b.channel]), b.a,
+                       b.ref, 100 * (b.a - b.ref) / b.ref);
     }
     return 0;
 }

@@ -9,7 +9,8 @@
 namespace ml {
 
 void add_info_command(CLI::App& app, InfoArgs& a) {
-    CLI::App* i = app.add_subcommand("info", "describe a scene: triangles, lights, bounds, materials");
+    CLI::App* i =
+        app.add_subcommand("info", "describe a scene: triangles, lights, bounds, materials");
     i->add_option("scene", a.scene, "scene file (.pbrt)")->required();
 }
 
@@ -25,10 +26,18 @@ int run_info(const InfoArgs& a) {
     std::map<std::string, int> lights;
     for (const auto& l : desc.lights) {
         switch (l->type()) {
-            case LightType::DeltaPosition: ++lights["point/spot"]; break;
-            case LightType::DeltaDirection: ++lights["distant"]; break;
-            case LightType::Area: ++lights["area"]; break;
-            case LightType::Infinite: ++lights["infinite"]; break;
+            case LightType::DeltaPosition:
+                ++lights["point/spot"];
+                break;
+            case LightType::DeltaDirection:
+                ++lights["distant"];
+                break;
+            case LightType::Area:
+                ++lights["area"];
+                break;
+            case LightType::Infinite:
+                ++lights["infinite"];
+                break;
         }
     }
     std::map<std::string, int> materials;

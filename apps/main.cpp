@@ -1,7 +1,7 @@
 // manylight: the command line (DESIGN.md section 3). Exit 0 on success, 1 on bad input (with
 // `file:line:col: message`), 2 on bad usage.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <iostream>

@@ -27,7 +27,8 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
     r->add_option("--spp", a.spp, "samples per pixel")->check(CLI::PositiveNumber);
     r->add_option("--max-depth", a.max_depth, "maximum path depth")->check(CLI::NonNegativeNumber);
     r->add_option("--resolution", a.resolution, "image size WxH");
-    r->add_option("--threads", a.threads, "threads (default: all cores)")->check(CLI::PositiveNumber);
+    r->add_option("--threads", a.threads, "threads (default: all cores)")
+        ->check(CLI::PositiveNumber);
     r->add_option("--seed", a.seed, "random seed")->check(CLI::NonNegativeNumber);
     r->add_option("--sampler", a.sampler, "independent, stratified or sobol");
     r->add_option("--time-limit", a.time_limit, "render progressively for this many seconds")
@@ -77,8 +78,9 @@ int run_render(const RenderArgs& a) {
 
     // Load.
     auto t0 = std::chrono::steady_clock::now();
-    SceneDesc desc = a.scene.empty() ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
-                                     : parse_scene_file(a.scene);
+    SceneDesc desc = a.scene.empty()
+                         ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
+                         : parse_scene_file(a.scene);
     double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     // Where the image goes: -o, else the scene's Film filename, else manylight.png.

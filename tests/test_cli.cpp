@@ -67,8 +67,8 @@ Shape "sphere" "float radius" [ 1 ]
 
 TEST_F(Cli, RendersASceneAndWritesStats) {
     std::string scene = write("tiny.pbrt", kTinyScene);
-    Result r = run("render " + scene + " --spp 2 -q -o " + path("a.exr") + " --stats " +
-                   path("s.json"));
+    Result r =
+        run("render " + scene + " --spp 2 -q -o " + path("a.exr") + " --stats " + path("s.json"));
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_TRUE(fs::exists(path("a.exr")));
     std::ifstream js(path("s.json"));
@@ -104,7 +104,8 @@ WorldBegin
 
 TEST_F(Cli, ResolutionTooLargeForMemory) {
     expect_input_error(
-        write("s.pbrt", R"(Film "rgb" "integer xresolution" [ 60000 ] "integer yresolution" [ 60000 ]
+        write("s.pbrt",
+              R"(Film "rgb" "integer xresolution" [ 60000 ] "integer yresolution" [ 60000 ]
 WorldBegin
 )"),
         "too large");

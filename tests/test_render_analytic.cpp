@@ -1,7 +1,7 @@
 // Analytic scenes through every radiance integrator (DESIGN.md section 4): the white furnace and
 // a plane under a point light, with tolerances from the images' own variance.
-#include <gtest/gtest.h>
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include "render_helpers.h"
 

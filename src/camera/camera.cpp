@@ -4,8 +4,8 @@
 
 namespace ml {
 
-PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
-                                     const Transform& camera_to_world, int width, int height)
+PerspectiveCamera::PerspectiveCamera(const ParameterList& params, const Transform& camera_to_world,
+                                     int width, int height)
     : m_camera_to_world(camera_to_world), m_width(width), m_height(height) {
     float fov = params.get_float("fov", 90.f);
     if (!(fov > 0.f && fov < 180.f))
@@ -19,7 +19,8 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
     if (frame > 1.f) {
         m_screen[0] = -frame, m_screen[1] = frame, m_screen[2] = -1.f, m_screen[3] = 1.f;
     } else {
-        m_screen[0] = -1.f, m_screen[1] = 1.f, m_screen[2] = -1.f / frame, m_screen[3] = 1.f / frame;
+        m_screen[0] = -1.f, m_screen[1] = 1.f, m_screen[2] = -1.f / frame,
+        m_screen[3] = 1.f / frame;
     }
     std::vector<float> sw = params.get_floats("screenwindow");
     if (!sw.empty()) {

@@ -10,8 +10,8 @@
 namespace ml {
 
 struct CameraSample {
-    Vec2 p_film;  // raster position, pixels, (0,0) at the top-left corner
-    Vec2 p_lens;  // [0,1)^2
+    Vec2 p_film;     // raster position, pixels, (0,0) at the top-left corner
+    Vec2 p_lens;     // [0,1)^2
     float time = 0;  // [0,1)
 };
 

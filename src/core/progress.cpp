@@ -33,7 +33,8 @@ void Progress::draw(double f) {
     constexpr int kWidth = 40;
     f = f < 0 ? 0 : (f > 1 ? 1 : f);
     int filled = int(f * kWidth);
-    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+    double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
     std::string bar(filled, '#');
     bar += std::string(kWidth - filled, '.');
     if (f > 0.01 && f < 1.0)

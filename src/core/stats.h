@@ -6,7 +6,7 @@
 namespace ml::stats {
 
 struct RayCounts {
-    uint64_t camera = 0;  // primary rays (counted by the integrators)
+    uint64_t camera = 0;   // primary rays (counted by the integrators)
     uint64_t closest = 0;  // all closest-hit queries
     uint64_t shadow = 0;   // all occlusion queries
     uint64_t total() const { return closest + shadow; }

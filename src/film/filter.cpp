@@ -112,7 +112,8 @@ std::unique_ptr<Filter> create_filter(const std::string& name, const ParameterLi
         if (!(sigma > 0)) throw_input_error(loc, "gaussian filter \"sigma\" must be positive");
         return std::make_unique<GaussianFilter>(r, sigma);
     }
-    throw_input_error(loc, "unsupported pixel filter \"{}\" (box, gaussian and triangle are)", name);
+    throw_input_error(loc, "unsupported pixel filter \"{}\" (box, gaussian and triangle are)",
+                      name);
 }
 
 }  // namespace ml

@@ -38,7 +38,8 @@ Image read_image(const std::string& path, const FileLoc& loc) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
         std::string err = OIIO::geterror();
-        throw_input_error(loc, "cannot read image \"{}\": {}", path, err.empty() ? "unknown format" : err);
+        throw_input_error(loc, "cannot read image \"{}\": {}", path,
+                          err.empty() ? "unknown format" : err);
     }
     const OIIO::ImageSpec& spec = in->spec();
     int w = spec.width, h = spec.height, c = spec.nchannels;
@@ -65,8 +66,8 @@ Image read_image(const std::string& path, const FileLoc& loc) {
 void write_image(const std::string& path, const Image& image) {
     std::string ext = lower_extension(path);
     bool ldr = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".tga" || ext == ".bmp";
-    bool supported = ldr || ext == ".exr" || ext == ".pfm" || ext == ".hdr" || ext == ".tif" ||
-                     ext == ".tiff";
+    bool supported =
+        ldr || ext == ".exr" || ext == ".pfm" || ext == ".hdr" || ext == ".tif" || ext == ".tiff";
     if (!supported)
         throw std::runtime_error("cannot write \"" + path +
                                  "\": unknown image extension (use .exr, .png or .pfm)");
@@ -75,8 +76,9 @@ void write_image(const std::string& path, const Image& image) {
     std::filesystem::path tmp = target;
     tmp += ".tmp-" + std::to_string(::getpid()) + ext;
     int w = image.width, h = image.height;
-    OIIO::ImageSpec spec(w, h, 3, ldr ? OIIO::TypeDesc::UINT8
-                                      : (ext == ".exr" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT));
+    OIIO::ImageSpec spec(w, h, 3,
+                         ldr ? OIIO::TypeDesc::UINT8
+                             : (ext == ".exr" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT));
     std::vector<float> data(size_t(w) * h * 3);
     for (size_t i = 0; i < size_t(w) * h; ++i)
         for (int k = 0; k < 3; ++k) {

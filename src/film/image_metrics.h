@@ -10,10 +10,10 @@
 namespace ml {
 
 struct ImageDiff {
-    double rel_mse = 0;     // mean over pixels and channels of (x - r)^2 / (r^2 + 1e-2)
-    double rmse = 0;        // sqrt of the mean squared difference
-    RGB mean_a, mean_b;     // per-channel image means
-    RGB mean_rel_diff;      // (mean_a - mean_b) / mean_b per channel
+    double rel_mse = 0;  // mean over pixels and channels of (x - r)^2 / (r^2 + 1e-2)
+    double rmse = 0;     // sqrt of the mean squared difference
+    RGB mean_a, mean_b;  // per-channel image means
+    RGB mean_rel_diff;   // (mean_a - mean_b) / mean_b per channel
 };
 
 // Compares `a` against the reference `b`; they must have the same size.

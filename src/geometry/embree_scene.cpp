@@ -33,9 +33,8 @@ EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
             vb[3 * k + 2] = m.p[k].z;
             m_bounds.expand(m.p[k]);
         }
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                   m.indices.data(), 0, 3 * sizeof(uint32_t),
-                                   m.triangle_count());
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(),
+                                   0, 3 * sizeof(uint32_t), m.triangle_count());
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(m_impl->scene, g, unsigned(i));
         rtcReleaseGeometry(g);

@@ -12,14 +12,14 @@ class Light;
 struct TriangleMesh;
 
 struct SurfaceInteraction {
-    Vec3 p;              // hit point, world space
-    Vec3 ng;             // geometric normal (unit): towards ns if the mesh has normals, else
-                         // per the winding and flip_normals (pbrt-v4's convention)
-    Vec3 ns;             // shading normal (unit), in the hemisphere of ng
-    Vec3 dpdu, dpdv;     // position derivatives with respect to uv
-    Vec2 uv;             // texture coordinates
-    Vec3 wo;             // unit direction back towards the ray origin
-    float t = 0;         // ray parameter of the hit
+    Vec3 p;           // hit point, world space
+    Vec3 ng;          // geometric normal (unit): towards ns if the mesh has normals, else
+                      // per the winding and flip_normals (pbrt-v4's convention)
+    Vec3 ns;          // shading normal (unit), in the hemisphere of ng
+    Vec3 dpdu, dpdv;  // position derivatives with respect to uv
+    Vec2 uv;          // texture coordinates
+    Vec3 wo;          // unit direction back towards the ray origin
+    float t = 0;      // ray parameter of the hit
     float time = 0;
     const Material* material = nullptr;
     const Light* area_light = nullptr;

@@ -13,9 +13,9 @@ class Material;
 class Light;
 
 struct TriangleMesh {
-    std::vector<Vec3> p;         // positions, world space
-    std::vector<Vec3> n;         // per-vertex shading normals, world space (empty: none)
-    std::vector<Vec2> uv;        // per-vertex texture coordinates (empty: none)
+    std::vector<Vec3> p;            // positions, world space
+    std::vector<Vec3> n;            // per-vertex shading normals, world space (empty: none)
+    std::vector<Vec2> uv;           // per-vertex texture coordinates (empty: none)
     std::vector<uint32_t> indices;  // 3 per triangle
     // Flips the geometric normal (pbrt's ReverseOrientation xor a handedness-swapping transform).
     bool flip_normals = false;

@@ -21,8 +21,9 @@ struct ThreadState {
 RenderResult PixelIntegrator::render(const RenderContext& ctx) {
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
-    tbb::enumerable_thread_specific<ThreadState> states(
-        [&] { return ThreadState{ctx.sampler.clone(), ScratchBuffer()}; });
+    tbb::enumerable_thread_specific<ThreadState> states([&] {
+        return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
+    });
     auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

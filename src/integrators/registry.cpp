@@ -20,7 +20,8 @@ const std::vector<IntegratorInfo>& integrator_registry() {
         {"path", "path tracing, NEE + MIS: the unbiased reference", make<PathIntegrator>},
         {"direct", "distribution ray tracing: direct light, soft shadows, glossy reflection",
          make<DirectIntegrator>},
-        {"whitted", "Whitted ray tracing: mirrors, glass and direct light", make<WhittedIntegrator>},
+        {"whitted", "Whitted ray tracing: mirrors, glass and direct light",
+         make<WhittedIntegrator>},
     };
     return table;
 }

@@ -62,8 +62,9 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
 
     // Sampler.
     const ParameterList& sp = desc.sampler.params;
-    std::string sampler_name =
-        opt.sampler.empty() ? sampler_for_pbrt_name(desc.sampler.name, desc.sampler.loc) : opt.sampler;
+    std::string sampler_name = opt.sampler.empty()
+                                   ? sampler_for_pbrt_name(desc.sampler.name, desc.sampler.loc)
+                                   : opt.sampler;
     int spp = sp.get_int("pixelsamples", 16);
     if (sampler_name == "stratified" && (sp.has("xsamples") || sp.has("ysamples")))
         spp = sp.get_int("xsamples", 4) * sp.get_int("ysamples", 4);
@@ -95,7 +96,8 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     std::map<std::string, std::string> overrides = opt.set;
     if (opt.max_depth) overrides[name + ".maxdepth"] = std::to_string(*opt.max_depth);
     // The scene's parameters apply only to the integrator they were written for.
-    const ParameterList* scene_params = name == scene_integrator ? &desc.integrator.params : nullptr;
+    const ParameterList* scene_params =
+        name == scene_integrator ? &desc.integrator.params : nullptr;
     Settings settings(name, scene_params, overrides);
     auto integrator = info->create(settings);
     settings.check_unused();
@@ -141,15 +143,16 @@ std::string RenderFigures::to_json() const {
     double total_s = seconds_load + seconds_build + seconds_render;
     return fmt::format(
         "{{\"integrator\": \"{}\", \"sampler\": \"{}\", \"spp\": {}, \"resolution\": [{}, {}], "
-        "\"threads\": {},\n \"seconds\": {{\"load\": {:.4f}, \"build\": {:.4f}, \"render\": {:.4f}, "
+        "\"threads\": {},\n \"seconds\": {{\"load\": {:.4f}, \"build\": {:.4f}, \"render\": "
+        "{:.4f}, "
         "\"total\": {:.4f}}},\n \"rays\": {{\"camera\": {}, \"closest\": {}, \"shadow\": {}, "
         "\"total\": {}}}, \"rays_per_second\": {:.6g},\n \"scene\": {{\"triangles\": {}}}, "
         "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": 0}},\n \"memory\": "
         "{{\"peak_rss_mb\": {:.1f}}}}}\n",
         integrator, sampler, spp, width, height, threads, seconds_load, seconds_build,
         seconds_render, total_s, rays_camera, rays_closest, rays_shadow, total,
-        seconds_render > 0 ? double(total) / seconds_render : 0.0, triangles, lights,
-        point_lights, peak_rss_mb);
+        seconds_render > 0 ? double(total) / seconds_render : 0.0, triangles, lights, point_lights,
+        peak_rss_mb);
 }
 
 }  // namespace ml

@@ -14,16 +14,16 @@
 namespace ml {
 
 struct RenderOptions {
-    std::string integrator;              // empty: the scene's (mapped), else "path"
-    std::optional<int> spp;              // overrides the Sampler's "pixelsamples"
-    std::optional<int> max_depth;        // overrides the integrator's "maxdepth"
-    std::optional<int> width, height;    // override the Film's resolution
-    std::optional<uint64_t> seed;        // overrides the Sampler's "seed" (default 0)
-    std::string sampler;                 // empty: the scene's
-    int threads = 0;                     // 0: all cores
-    double time_limit = 0;               // seconds; > 0 renders progressively until spent
+    std::string integrator;                  // empty: the scene's (mapped), else "path"
+    std::optional<int> spp;                  // overrides the Sampler's "pixelsamples"
+    std::optional<int> max_depth;            // overrides the integrator's "maxdepth"
+    std::optional<int> width, height;        // override the Film's resolution
+    std::optional<uint64_t> seed;            // overrides the Sampler's "seed" (default 0)
+    std::string sampler;                     // empty: the scene's
+    int threads = 0;                         // 0: all cores
+    double time_limit = 0;                   // seconds; > 0 renders progressively until spent
     std::map<std::string, std::string> set;  // --set NAME.KEY=VALUE
-    bool progress = false;               // draw a progress bar on a terminal
+    bool progress = false;                   // draw a progress bar on a terminal
 };
 
 struct RenderFigures {

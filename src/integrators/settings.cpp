@@ -48,7 +48,8 @@ int Settings::get_int(const std::string& key, int def) const {
 float Settings::get_float(const std::string& key, float def) const {
     if (const std::string* s = override_for(key)) {
         float v = parse_number<float>(m_integrator + "." + key, *s);
-        if (!std::isfinite(v)) throw UsageError("--set " + m_integrator + "." + key + ": not finite");
+        if (!std::isfinite(v))
+            throw UsageError("--set " + m_integrator + "." + key + ": not finite");
         return v;
     }
     return m_scene ? m_scene->get_float(key, def) : def;
@@ -71,8 +72,8 @@ std::string Settings::get_string(const std::string& key, const std::string& def)
 void Settings::check_unused() const {
     for (auto& [key, used] : m_used)
         if (!used)
-            throw UsageError("--set " + m_integrator + "." + key +
-                             ": integrator \"" + m_integrator + "\" has no such setting");
+            throw UsageError("--set " + m_integrator + "." + key + ": integrator \"" +
+                             m_integrator + "\" has no such setting");
     if (m_scene) m_scene->check_unused();
 }
 

@@ -31,7 +31,7 @@ public:
 private:
     const std::string* override_for(const std::string& key) const;
     std::string m_integrator;
-    const ParameterList* m_scene;  // may be null
+    const ParameterList* m_scene;                    // may be null
     std::map<std::string, std::string> m_overrides;  // keys without the "name." prefix
     mutable std::map<std::string, bool> m_used;
 };

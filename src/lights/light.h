@@ -28,17 +28,17 @@ struct LightSampleContext {
 };
 
 struct LightLiSample {
-    RGB L;                    // radiance (or, for delta lights, intensity / distance^2)
-    Vec3 wi;                  // unit direction from the receiver towards the light
+    RGB L;                      // radiance (or, for delta lights, intensity / distance^2)
+    Vec3 wi;                    // unit direction from the receiver towards the light
     float pdf_solid_angle = 0;  // for delta lights: 1 (a discrete choice)
-    Vec3 p_light;             // point on the light (for infinite/distant: far along wi)
-    Vec3 n_light;             // normal there (zero for point-like lights)
+    Vec3 p_light;               // point on the light (for infinite/distant: far along wi)
+    Vec3 n_light;               // normal there (zero for point-like lights)
 };
 
 struct LightLeSample {
-    RGB L;            // emitted radiance along the ray
-    Ray ray;          // origin on the light, unit direction
-    Vec3 n_light;     // surface normal at the origin (zero for points and directions)
+    RGB L;              // emitted radiance along the ray
+    Ray ray;            // origin on the light, unit direction
+    Vec3 n_light;       // surface normal at the origin (zero for points and directions)
     float pdf_pos = 0;  // area density of the origin (1 for delta positions)
     float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };

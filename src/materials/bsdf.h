@@ -31,11 +31,11 @@ enum BxdfFlags : uint8_t {
 };
 
 struct BsdfSample {
-    RGB f;                  // BSDF value (no cosine); for a delta lobe, its weight / |cos|
-    Vec3 wi;                // sampled direction
+    RGB f;                      // BSDF value (no cosine); for a delta lobe, its weight / |cos|
+    Vec3 wi;                    // sampled direction
     float pdf_solid_angle = 0;  // for a delta lobe: the discrete probability of the lobe
     uint8_t flags = kBxdfNone;  // the lobe sampled
-    float eta = 1;          // relative IOR crossed (transmission), else 1
+    float eta = 1;              // relative IOR crossed (transmission), else 1
     bool is_specular() const { return flags & kBxdfSpecular; }
     bool is_transmission() const { return flags & kBxdfTransmission; }
 };

@@ -42,8 +42,8 @@ public:
     int samples_per_pixel() const override { return m_spp; }
     void start_pixel_sample(Point2i pixel, int index, int dimension) override {
         // The pixel's hash once per sample; each dimension then costs one more mix.
-        m_pixel_hash = hash_ints(uint64_t(uint32_t(pixel.x)) | (uint64_t(uint32_t(pixel.y)) << 32),
-                                 m_seed);
+        m_pixel_hash =
+            hash_ints(uint64_t(uint32_t(pixel.x)) | (uint64_t(uint32_t(pixel.y)) << 32), m_seed);
         m_index = index;
         m_dim = dimension;
     }

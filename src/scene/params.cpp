@@ -239,11 +239,15 @@ RGB blackbody_rgb(float kelvin) {
     for (float lambda = 360; lambda <= 830; lambda += 1) {
         double l = lambda * 1e-9;
         double c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;
-        double le = (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
-        float x = 1.056f * g(lambda, 599.8f, 37.9f, 31.0f) + 0.362f * g(lambda, 442.0f, 16.0f, 26.7f) -
+        double le =
+            (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
+        float x = 1.056f * g(lambda, 599.8f, 37.9f, 31.0f) +
+                  0.362f * g(lambda, 442.0f, 16.0f, 26.7f) -
                   0.065f * g(lambda, 501.1f, 20.4f, 26.2f);
-        float y = 0.821f * g(lambda, 568.8f, 46.9f, 40.5f) + 0.286f * g(lambda, 530.9f, 16.3f, 31.1f);
-        float z = 1.217f * g(lambda, 437.0f, 11.8f, 36.0f) + 0.681f * g(lambda, 459.0f, 26.0f, 13.8f);
+        float y =
+            0.821f * g(lambda, 568.8f, 46.9f, 40.5f) + 0.286f * g(lambda, 530.9f, 16.3f, 31.1f);
+        float z =
+            1.217f * g(lambda, 437.0f, 11.8f, 36.0f) + 0.681f * g(lambda, 459.0f, 26.0f, 13.8f);
         X += le * x, Y += le * y, Z += le * z;
     }
     RGB rgb(float(3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z),

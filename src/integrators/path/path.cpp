@@ -26,8 +26,8 @@ RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampl
     RGB L, beta(1.f);
     Ray ray = camera_ray;
     bool specular_bounce = false;
-    float eta_scale = 1.f;   // radiance scaling by refraction, undone for Russian roulette
-    float prev_pdf = 0.f;    // solid-angle pdf of the BSDF sample that made `ray`
+    float eta_scale = 1.f;  // radiance scaling by refraction, undone for Russian roulette
+    float prev_pdf = 0.f;   // solid-angle pdf of the BSDF sample that made `ray`
     LightSampleContext prev_ctx;
     SurfaceInteraction si;
     for (int depth = 0;; ++depth) {
