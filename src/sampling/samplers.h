@@ -56,8 +56,9 @@ inline uint32_t permutation_element(uint32_t i, uint32_t n, uint64_t seed) {
 // operation below changes bit k only as a function of bits <= k, so each output digit is the input
 // digit flipped by a pseudo-random function of the digits above it (Laine and Karras 2011, Burley
 // 2020); the seed picks the scramble. Our own constants.
-inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
-    v = reverse_bits32(v);
+// The same scramble applied to a value given with its bits already reversed (saves a reversal
+// when the caller has them in that order, as the Sobol' sampler does).
+inline uint32_t owen_scramble_reversed(uint32_t v, uint32_t seed) {
     v += seed;
     v ^= v * 0x6c50b47cu;
     v ^= seed * 0x2c1b3c6du;
@@ -67,6 +68,10 @@ inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
     v ^= v * 0xc7afe638u;
     v ^= v * 0x4b7f2d58u;
     return reverse_bits32(v);
+}
+
+inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+    return owen_scramble_reversed(reverse_bits32(v), seed);
 }
 
 inline float u32_to_float(uint32_t v) { return std::min(float(v) * 0x1p-32f, kOneMinusEpsilon); }

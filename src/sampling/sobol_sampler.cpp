@@ -9,7 +9,7 @@
 namespace ml {
 namespace {
 
-using sampling_detail::owen_scramble;
+using sampling_detail::owen_scramble_reversed;
 using sampling_detail::permutation_element;
 using sampling_detail::u32_to_float;
 
@@ -24,12 +24,35 @@ constexpr std::array<uint32_t, 32> make_dimension1_matrix() {
 }
 constexpr std::array<uint32_t, 32> kSobolDim1 = make_dimension1_matrix();
 
-// Dimension 0 is the van der Corput sequence: the index's bits reversed.
-inline uint32_t sobol_dim0(uint32_t i) { return sampling_detail::reverse_bits32(i); }
-inline uint32_t sobol_dim1(uint32_t i) {
-    uint32_t v = 0;
-    for (int k = 0; i; i >>= 1, ++k)
-        if (i & 1) v ^= kSobolDim1[size_t(k)];
+// Owen scrambling works on the bits in reversed order, so the sampler produces both Sobol'
+// dimensions bit-reversed. Dimension 0 (van der Corput) reversed is the index itself; dimension 1
+// reversed is the xor of the reversed matrix columns picked by the index's bits, looked up a byte
+// at a time.
+struct ReversedDim1Tables {
+    uint32_t byte[4][256];
+};
+constexpr ReversedDim1Tables make_reversed_dim1_tables() {
+    ReversedDim1Tables t{};
+    for (int b = 0; b < 4; ++b)
+        for (uint32_t v = 0; v < 256; ++v) {
+            uint32_t x = 0;
+            for (int k = 0; k < 8; ++k)
+                if (v & (1u << k)) {
+                    uint32_t c = kSobolDim1[size_t(8 * b + k)], r = 0;
+                    for (int j = 0; j < 32; ++j) r |= ((c >> j) & 1u) << (31 - j);
+                    x ^= r;
+                }
+            t.byte[b][v] = x;
+        }
+    return t;
+}
+constexpr ReversedDim1Tables kReversedDim1 = make_reversed_dim1_tables();
+
+inline uint32_t sobol_dim1_reversed(uint32_t i) {
+    uint32_t v = kReversedDim1.byte[0][i & 0xff];
+    if (i >> 8)
+        v ^= kReversedDim1.byte[1][(i >> 8) & 0xff] ^ kReversedDim1.byte[2][(i >> 16) & 0xff] ^
+             kReversedDim1.byte[3][i >> 24];
     return v;
 }
 
@@ -51,7 +74,7 @@ public:
         uint64_t h = pair_hash(uint64_t(m_dim));
         ++m_dim;
         uint32_t i = permuted_index(h);
-        return u32_to_float(owen_scramble(sobol_dim0(i), uint32_t(h)));
+        return u32_to_float(owen_scramble_reversed(i, uint32_t(h)));
     }
     Vec2 get_2d() override {
         Vec2 u = sample_pair(uint64_t(m_dim));
@@ -79,8 +102,8 @@ private:
         uint64_t h = pair_hash(dim);
         uint32_t i = permuted_index(h);
         // Separate scrambles per coordinate, from the two halves of the hash.
-        uint32_t x = owen_scramble(sobol_dim0(i), uint32_t(h));
-        uint32_t y = owen_scramble(sobol_dim1(i), uint32_t(h >> 32));
+        uint32_t x = owen_scramble_reversed(i, uint32_t(h));
+        uint32_t y = owen_scramble_reversed(sobol_dim1_reversed(i), uint32_t(h >> 32));
         return {u32_to_float(x), u32_to_float(y)};
     }
 
