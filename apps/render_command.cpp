@@ -101,6 +101,8 @@ int run_render(const RenderArgs& a) {
     write_image(output, out.image);
 
     const RenderFigures& f = out.figures;
+    if (!a.quiet)
+        for (const std::string& w : f.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     if (!a.stats.empty()) {
         std::string tmp = a.stats + ".tmp";
         {

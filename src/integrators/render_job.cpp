@@ -91,6 +91,11 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     std::string scene_integrator = integrator_for_pbrt_name(desc.integrator.name);
     std::string name = opt.integrator;
     if (name.empty()) name = scene_integrator.empty() ? "path" : scene_integrator;
+    if (opt.integrator.empty() && !desc.integrator.name.empty() && scene_integrator.empty())
+        fig.warnings.push_back(fmt::format(
+            "{}: the scene asks for integrator \"{}\", which manylight does not have; rendering "
+            "with \"path\" (its parameters are ignored)",
+            desc.integrator.loc.to_string(), desc.integrator.name));
     const IntegratorInfo* info = find_integrator(name);
     if (!info) throw UsageError("unknown integrator \"" + name + "\"");
     std::map<std::string, std::string> overrides = opt.set;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "film/image.h"
 #include "scene/scene_desc.h"
@@ -34,6 +35,7 @@ struct RenderFigures {
     size_t triangles = 0, lights = 0, point_lights = 0;
     std::string output_hint;  // the Film's "filename", if any
     double peak_rss_mb = 0;   // peak resident memory of the process, filled in by the caller
+    std::vector<std::string> warnings;  // for the user: settings that were not honoured
     std::string to_json() const;
 };
 

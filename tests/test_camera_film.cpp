@@ -1,0 +1,98 @@
+// The thin-lens camera and the pixel filters.
+#include <gtest/gtest.h>
+
+#include "camera/camera.h"
+#include "core/rng.h"
+#include "film/filter.h"
+
+using namespace ml;
+
+namespace {
+
+ParameterList camera_params(float fov, float lens_radius, float focal_distance) {
+    ParameterList p;
+    auto add = [&](const char* name, float v) {
+        Param q;
+        q.type = "float";
+        q.name = name;
+        q.numbers = {v};
+        p.add(q);
+    };
+    add("fov", fov);
+    add("lensradius", lens_radius);
+    add("focaldistance", focal_distance);
+    return p;
+}
+
+}  // namespace
+
+TEST(Camera, PinholeRaysLeaveTheEyeThroughTheImagePlane) {
+    PerspectiveCamera cam(camera_params(90, 0, 1), Transform(), 100, 50);
+    // The centre of the image looks down +z; fov spans the shorter (vertical) axis.
+    Ray c = cam.generate_ray({Vec2(50, 25), Vec2(0.5f, 0.5f), 0});
+    EXPECT_NEAR(c.d.z, 1.f, 1e-6f);
+    Ray top = cam.generate_ray({Vec2(50, 0), Vec2(0.5f, 0.5f), 0});
+    EXPECT_NEAR(top.d.y / top.d.z, 1.f, 1e-5f);  // tan(45 degrees), +y up
+    Ray right = cam.generate_ray({Vec2(100, 25), Vec2(0.5f, 0.5f), 0});
+    EXPECT_NEAR(right.d.x / right.d.z, 2.f, 1e-5f);  // aspect 2
+}
+
+TEST(Camera, ThinLensFocusesOnTheFocalPlane) {
+    const float focal = 5.f;
+    PerspectiveCamera cam(camera_params(60, 0.3f, focal), Transform::translate({1, 2, 3}), 64, 64);
+    Rng rng(3);
+    for (Vec2 film : {Vec2(32, 32), Vec2(3, 60), Vec2(50, 10)}) {
+        Ray pin = cam.generate_ray({film, Vec2(0.5f, 0.5f), 0});  // lens centre
+        Vec3 focus = pin.at((focal) / pin.d.z);
+        float spread = 0;
+        for (int i = 0; i < 64; ++i) {
+            Ray r = cam.generate_ray({film, Vec2(rng.next_float(), rng.next_float()), 0});
+            // Every ray through the lens meets the pinhole ray on the plane z = focal...
+            Vec3 p = r.at((3 + focal - r.o.z) / r.d.z);
+            EXPECT_NEAR(distance(p, focus + Vec3(0, 0, 0)), 0.f, 2e-4f);
+            // ...and starts somewhere on the lens disk.
+            spread = std::max(spread, distance(r.o, Vec3(1, 2, 3)));
+            EXPECT_LE(distance(r.o, Vec3(1, 2, 3)), 0.3f + 1e-5f);
+        }
+        EXPECT_GT(spread, 0.1f);
+    }
+}
+
+namespace {
+
+// E[w h(x)] / E[w] over filter samples must equal the filter-weighted mean of h.
+void expect_filter_consistent(const std::string& name) {
+    ParameterList p;
+    auto filter = create_filter(name, p, {});
+    Vec2 r = filter->radius();
+    auto h = [](Vec2 x) { return 1 + x.x * x.x + 0.5f * x.y + x.x * x.y * x.y; };
+    double num = 0, den = 0;
+    const int n = 400;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            Vec2 x((2 * (i + 0.5f) / n - 1) * r.x, (2 * (j + 0.5f) / n - 1) * r.y);
+            num += filter->eval(x) * h(x);
+            den += filter->eval(x);
+        }
+    double expected = num / den;
+    Rng rng(5);
+    double sw = 0, swh = 0;
+    for (int i = 0; i < 400000; ++i) {
+        FilterSample s = filter->sample({rng.next_float(), rng.next_float()});
+        ASSERT_LE(std::abs(s.p.x), r.x + 1e-6f);
+        ASSERT_LE(std::abs(s.p.y), r.y + 1e-6f);
+        sw += s.weight;
+        swh += s.weight * h(s.p);
+    }
+    EXPECT_NEAR(swh / sw, expected, 5e-3 * expected) << name;
+}
+
+}  // namespace
+
+TEST(Filter, BoxSamplesMatchItsWeights) { expect_filter_consistent("box"); }
+TEST(Filter, TriangleSamplesMatchItsWeights) { expect_filter_consistent("triangle"); }
+TEST(Filter, GaussianSamplesMatchItsWeights) { expect_filter_consistent("gaussian"); }
+TEST(Filter, UnknownFilterIsAnInputError) {
+    ParameterList p;
+    EXPECT_THROW(create_filter("mitchell", p, {}), InputError);
+}
