@@ -42,57 +42,73 @@ private:
     Vec2 m_r;
 };
 
-// A separable filter sampled through per-axis piecewise-constant tables; the weight f/pdf
-// corrects for the tabulation, so the estimate stays exact in expectation.
+// The Gaussian (pbrt-v4's: g(x) - g(r) per axis, separable), tabulated per axis into
+// piecewise-constant bins 1/64 of a pixel wide and sampled exactly from that table, so every
+// sample carries weight 1. The table is the filter: eval() returns the same values, and the
+// difference from the smooth curve is far below anything a pixel shows.
 class GaussianFilter final : public Filter {
 public:
     GaussianFilter(Vec2 r, float sigma) : m_r(r), m_sigma(sigma) {
         for (int a = 0; a < 2; ++a) {
-            float ra = a == 0 ? r.x : r.y;
-            std::vector<float>& cdf = m_cdf[a];
-            cdf.resize(kBins + 1);
-            cdf[0] = 0;
-            for (int i = 0; i < kBins; ++i) {
-                float x = -ra + (i + 0.5f) * 2 * ra / kBins;
-                m_pdf[a][i] = g1(x, ra);
-                cdf[i + 1] = cdf[i] + m_pdf[a][i];
+            Axis& ax = m_axis[a];
+            ax.r = a == 0 ? r.x : r.y;
+            int bins = std::max(8, int(std::ceil(2 * ax.r * 64)));
+            ax.f.resize(bins);
+            ax.cdf.resize(bins + 1);
+            ax.cdf[0] = 0;
+            for (int i = 0; i < bins; ++i) {
+                float x = -ax.r + (i + 0.5f) * 2 * ax.r / bins;
+                ax.f[i] = g1(x, ax.r);
+                ax.cdf[i + 1] = ax.cdf[i] + ax.f[i];
             }
-            float total = cdf[kBins];
-            for (int i = 0; i < kBins; ++i) m_pdf[a][i] *= kBins / (total * 2 * ra);
-            for (float& c : cdf) c /= total;
+            for (float& c : ax.cdf) c /= ax.cdf[bins];
+            // Where each of kGuide equal steps of u starts its search: sampling is a lookup plus
+            // a step or two along the CDF.
+            ax.guide.resize(kGuide + 1);
+            int i = 0;
+            for (int k = 0; k <= kGuide; ++k) {
+                float u = float(k) / kGuide;
+                while (i < bins - 1 && ax.cdf[i + 1] <= u) ++i;
+                ax.guide[k] = i;
+            }
         }
     }
     Vec2 radius() const override { return m_r; }
-    float eval(const Vec2& p) const override { return g1(p.x, m_r.x) * g1(p.y, m_r.y); }
+    float eval(const Vec2& p) const override { return m_axis[0].eval(p.x) * m_axis[1].eval(p.y); }
     FilterSample sample(const Vec2& u) const override {
-        float pdf_x, pdf_y;
-        float x = sample_axis(0, u.x, m_r.x, &pdf_x);
-        float y = sample_axis(1, u.y, m_r.y, &pdf_y);
-        Vec2 p(x, y);
-        return {p, eval(p) / (pdf_x * pdf_y)};
+        return {Vec2(m_axis[0].sample(u.x), m_axis[1].sample(u.y)), 1.f};
     }
 
 private:
-    static constexpr int kBins = 64;
+    static constexpr int kGuide = 256;
+    struct Axis {
+        float r;
+        std::vector<float> f, cdf;
+        std::vector<int> guide;
+        float eval(float x) const {
+            if (std::abs(x) > r) return 0.f;
+            int bins = int(f.size());
+            int i = std::min(bins - 1, int((x + r) / (2 * r) * bins));
+            return f[i];
+        }
+        float sample(float u) const {
+            int bins = int(f.size());
+            int i = guide[std::min(kGuide, int(u * kGuide))];
+            while (i < bins - 1 && cdf[i + 1] <= u) ++i;
+            float span = cdf[i + 1] - cdf[i];
+            float t = span > 0 ? (u - cdf[i]) / span : 0.5f;
+            return -r + (i + t) * 2 * r / bins;
+        }
+    };
     float gauss(float x) const {
         return std::exp(-x * x / (2 * m_sigma * m_sigma)) / std::sqrt(2 * kPi * m_sigma * m_sigma);
     }
     float g1(float x, float r) const {
         return std::abs(x) > r ? 0.f : std::max(0.f, gauss(x) - gauss(r));
     }
-    float sample_axis(int a, float u, float r, float* pdf) const {
-        const std::vector<float>& cdf = m_cdf[a];
-        int i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
-        i = std::clamp(i, 0, kBins - 1);
-        float span = cdf[i + 1] - cdf[i];
-        float t = span > 0 ? (u - cdf[i]) / span : 0.5f;
-        *pdf = m_pdf[a][i];
-        return -r + (i + t) * 2 * r / kBins;
-    }
     Vec2 m_r;
     float m_sigma;
-    std::vector<float> m_cdf[2];
-    float m_pdf[2][kBins];
+    Axis m_axis[2];
 };
 
 }  // namespace
