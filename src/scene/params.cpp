@@ -160,8 +160,9 @@ std::vector<Vec2> ParameterList::get_point2s(const std::string& name) const {
     return out;
 }
 
-std::vector<Vec3> ParameterList::get_point3s(const std::string& name) const {
-    const Param* p = find_typed(name, {"point3", "point", "vector3", "vector"}, "point3");
+namespace {
+
+std::vector<Vec3> vec3_array(const Param* p) {
     if (!p) return {};
     expect_multiple(*p, 3, p->numbers.size());
     expect_finite(*p);
@@ -172,16 +173,14 @@ std::vector<Vec3> ParameterList::get_point3s(const std::string& name) const {
     return out;
 }
 
+}  // namespace
+
+std::vector<Vec3> ParameterList::get_point3s(const std::string& name) const {
+    return vec3_array(find_typed(name, {"point3", "point", "vector3", "vector"}, "point3"));
+}
+
 std::vector<Vec3> ParameterList::get_normals(const std::string& name) const {
-    const Param* p = find_typed(name, {"normal", "normal3"}, "normal");
-    if (!p) return {};
-    expect_multiple(*p, 3, p->numbers.size());
-    expect_finite(*p);
-    std::vector<Vec3> out(p->numbers.size() / 3);
-    for (size_t i = 0; i < out.size(); ++i)
-        out[i] = Vec3(float(p->numbers[3 * i]), float(p->numbers[3 * i + 1]),
-                      float(p->numbers[3 * i + 2]));
-    return out;
+    return vec3_array(find_typed(name, {"normal", "normal3"}, "normal"));
 }
 
 std::vector<std::string> ParameterList::get_strings(const std::string& name) const {
