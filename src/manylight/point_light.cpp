@@ -1,0 +1,32 @@
+#include "manylight/point_light.h"
+
+namespace ml {
+
+RGB point_light_intensity(const PointLightSet& set, const PointLight& pl, const Vec3& w) {
+    switch (pl.kind) {
+        case PointLightKind::Directional:
+            return pl.intensity;
+        case PointLightKind::Omni: {
+            if (pl.cos_end <= -1.f) return pl.intensity;
+            float c = dot(pl.n, w);
+            if (c <= pl.cos_end) return RGB();
+            if (c >= pl.cos_start) return pl.intensity;
+            float t = (c - pl.cos_end) / (pl.cos_start - pl.cos_end);
+            return pl.intensity * (t * t * (3 - 2 * t));
+        }
+        case PointLightKind::Oriented: {
+            if (pl.surface >= 0) {
+                const VplSurface& s = set.surfaces[size_t(pl.surface)];
+                // Light arrived from s.wi and leaves towards w: radiance transport at the VPL,
+                // I(w) = flux * f(w, wi) * |cos| (a diffuse VPL: flux * albedo / pi * cos).
+                return s.flux * s.bsdf.eval(w, s.wi, TransportMode::Radiance) *
+                       abs_dot(w, s.bsdf.frame().n);
+            }
+            float c = dot(pl.n, w);
+            return c > 0 ? pl.intensity * c : RGB();
+        }
+    }
+    return RGB();
+}
+
+}  // namespace ml
