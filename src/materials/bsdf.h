@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/color.h"
+#include "core/cone.h"
 #include "core/math.h"
 
 namespace ml {
@@ -56,6 +57,10 @@ public:
                                              TransportMode mode) const = 0;
     // Density of sample() over solid angle, excluding delta lobes.
     virtual float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const = 0;
+    // Lightcuts' material bound: an upper bound of eval(wo, wi) * |cos wi| over every wi in the
+    // cone (Radiance mode). Delta lobes contribute nothing (a point light cannot be hit by one).
+    // The default, +infinity, is sound for a Bxdf that knows no better (bxdf_bounds.cpp).
+    virtual RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const;
 };
 
 // A Bxdf placed at a hit: world-space directions in, world-space directions out.
@@ -94,6 +99,12 @@ public:
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
         if (lo.z == 0) return 0;
         return m_bxdf->pdf_solid_angle(lo, li, mode);
+    }
+    // World-space form of Bxdf::max_value_bound (cone in world space).
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const {
+        Vec3 lo = m_frame.to_local(wo);
+        if (lo.z == 0 || cone.is_empty()) return RGB();
+        return m_bxdf->max_value_bound(lo, {m_frame.to_local(cone.axis), cone.cos_theta});
     }
 
 private:

@@ -30,6 +30,7 @@ public:
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode) const override;
     float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
 
 private:
     RGB m_r;
@@ -44,6 +45,7 @@ public:
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode) const override;
     float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
 
 private:
     RGB m_r, m_t;
@@ -61,6 +63,7 @@ public:
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode) const override;
     float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
 
 private:
     TrowbridgeReitz m_distrib;
@@ -77,6 +80,7 @@ public:
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode) const override;
     float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
 
 private:
     bool smooth() const { return m_eta == 1 || m_distrib.effectively_smooth(); }
@@ -94,6 +98,7 @@ public:
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode) const override;
     float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
 
 private:
     float coat_probability(float cos_o) const;

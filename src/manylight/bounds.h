@@ -1,0 +1,38 @@
+// Lightcuts' error bounds (Walter et al. 2005, section 4.1): for a shading point x, upper bounds
+// of the geometric term G and of the material term M over every light of a light-tree node, so
+// that the node's error is at most M_ub * G_ub * V_ub * I_node with V_ub = 1.
+//
+// Each bound holds for every light of the node, whatever its position in the node's box and
+// its direction in the node's cone: the exact contribution
+//   sum_i f(wo, wi) |cos(n, wi)| I_i(-wi) / d_i^2     (directional lights: without the 1/d^2)
+// never exceeds node_error_bound(). Glossy VPLs are covered through the promise of
+// point_light.h that their intensity bounds their lobe times the cosine about n.
+#pragma once
+
+#include "core/color.h"
+#include "core/cone.h"
+#include "core/math.h"
+#include "manylight/light_tree.h"
+#include "materials/bsdf.h"
+
+namespace ml {
+
+// Upper bound of G over the node's lights at x (the 1/d^2 falloff, times the emitter's cosine
+// for oriented lights; 1 for directional lights). +infinity when x is inside the node's box.
+float geometric_bound(const LightTreeNode& node, const Vec3& x);
+
+// The cone of directions from x towards the node's lights (the incident directions wi the
+// material bound ranges over): towards the box for omni and oriented lights, the reverse of the
+// travel directions for directional lights.
+DirectionCone node_direction_cone(const LightTreeNode& node, const Vec3& x);
+
+// Upper bound of f(wo, wi) |cos wi| over wi towards the node's lights (world-space wo, unit,
+// pointing away from x).
+RGB material_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo);
+
+// M_ub * G_ub * intensity: the node's error bound at x, what the cut loop compares with the
+// current estimate. Zero when the node is dark or the BSDF cannot see it; may be +infinity
+// (x inside the box, or a rough dielectric's transmission, see bxdf_bounds.cpp).
+RGB node_error_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo);
+
+}  // namespace ml

@@ -1,0 +1,239 @@
+#include "manylight/light_tree.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+
+#include "core/rng.h"
+
+namespace ml {
+
+float light_cluster_metric(float luminance, const Bounds3& b, float cone_theta, float c,
+                           bool no_box) {
+    float alpha2 = no_box || b.empty() ? 0.f : length_squared(b.diagonal());
+    float one_minus_cos = 2 * sqr(std::sin(cone_theta / 2));  // 1 - cos, without cancellation
+    return luminance * (alpha2 + c * c * sqr(one_minus_cos));
+}
+
+namespace {
+
+// Spreads the low 21 bits of v to every third bit.
+uint64_t spread_bits_21(uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+// 63-bit Morton code of a point with coordinates in [0, 1].
+uint64_t morton_code(const Vec3& u) {
+    auto q = [](float x) { return uint64_t(std::clamp(x, 0.f, 1.f) * float((1 << 21) - 1)); };
+    return spread_bits_21(q(u.x)) << 2 | spread_bits_21(q(u.y)) << 1 | spread_bits_21(q(u.z));
+}
+
+// The clusters still to be merged, in Morton order, with what the metric needs of each, kept
+// contiguous so that the window search streams through memory.
+struct Clusters {
+    std::vector<int32_t> node;
+    std::vector<Bounds3> box;
+    std::vector<Vec3> axis;
+    std::vector<float> theta;  // padded half-angle of the cone
+    std::vector<float> lum;
+
+    void resize(size_t n) {
+        node.resize(n);
+        box.resize(n);
+        axis.resize(n);
+        theta.resize(n);
+        lum.resize(n);
+    }
+    size_t size() const { return node.size(); }
+};
+
+// The metric of the union of clusters i and j; the arguments are always given in index order so
+// that the cost is exactly symmetric (float addition is not associative), which PLOC's
+// mutual-best-pair test relies on to terminate.
+struct PairCost {
+    const Clusters* cl;
+    float c2;
+    bool use_box, use_cone;
+
+    float operator()(size_t i, size_t j) const {
+        float cost = 0;
+        if (use_box) {
+            Vec3 lo = vmin(cl->box[i].lo, cl->box[j].lo), hi = vmax(cl->box[i].hi, cl->box[j].hi);
+            cost = length_squared(hi - lo);
+        }
+        if (use_cone) {
+            float ta = cl->theta[i], tb = cl->theta[j];
+            float td = angle_between(cl->axis[i], cl->axis[j]);
+            float beta;
+            if (td + tb <= ta)
+                beta = ta;
+            else if (td + ta <= tb)
+                beta = tb;
+            else
+                beta = std::min(kPi, (ta + td + tb) / 2);
+            cost += c2 * sqr(2 * sqr(std::sin(beta / 2)));
+        }
+        return (cl->lum[i] + cl->lum[j]) * cost;
+    }
+};
+
+}  // namespace
+
+LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptions& opts)
+    : m_light_count(lights.size()) {
+    // A binary tree over n leaves has 2n - 1 nodes: reserve them all so that no build step
+    // reallocates under parallel writers.
+    m_nodes.reserve(2 * lights.size());
+    for (PointLightKind kind :
+         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional})
+        build_kind(lights, kind, opts);
+}
+
+void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
+                           const LightTreeOptions& opts) {
+    const bool directional = kind == PointLightKind::Directional;
+    const bool has_cone = kind != PointLightKind::Omni;
+
+    // 1. The lights of this kind, their bounds, and their Morton codes (position; direction for
+    //    directional lights).
+    std::vector<int32_t> ids;
+    Bounds3 all;
+    for (size_t i = 0; i < lights.size(); ++i)
+        if (lights[i].kind == kind) {
+            ids.push_back(int32_t(i));
+            all.expand(lights[i].p);
+        }
+    if (ids.empty()) return;
+    size_t n = ids.size();
+    float c = 0;
+    if (kind == PointLightKind::Oriented)
+        c = opts.scene_diagonal > 0 ? opts.scene_diagonal : length(all.diagonal());
+    if (directional) c = 1;
+
+    Vec3 extent = all.diagonal();
+    auto unit = [&](float x, float lo, float e) { return e > 0 ? (x - lo) / e : 0.5f; };
+    std::vector<std::pair<uint64_t, int32_t>> keys(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+        const PointLight& pl = lights[size_t(ids[k])];
+        Vec3 u = directional
+                     ? (pl.n + Vec3(1, 1, 1)) * 0.5f
+                     : Vec3(unit(pl.p.x, all.lo.x, extent.x), unit(pl.p.y, all.lo.y, extent.y),
+                            unit(pl.p.z, all.lo.z, extent.z));
+        keys[k] = {morton_code(u), ids[k]};
+    });
+    tbb::parallel_sort(keys.begin(), keys.end());
+
+    // 2. One leaf per light, in Morton order.
+    const size_t base = m_nodes.size();
+    m_nodes.resize(base + n);
+    Clusters cl;
+    cl.resize(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+        const PointLight& pl = lights[size_t(keys[k].second)];
+        LightTreeNode& node = m_nodes[base + k];
+        node.kind = kind;
+        node.light = keys[k].second;
+        node.intensity = pl.intensity;
+        if (!directional) node.bounds.expand(pl.p);
+        node.cone = has_cone ? DirectionCone(normalize(pl.n)) : DirectionCone::entire_sphere();
+        cl.node[k] = int32_t(base + k);
+        cl.box[k] = node.bounds;
+        cl.axis[k] = node.cone.axis;
+        cl.theta[k] = cone_angle(node.cone);
+        cl.lum[k] = std::max(0.f, node.intensity.luminance());
+    });
+
+    // 3. PLOC: every cluster finds its best partner within the window; mutual best pairs merge
+    //    into a new node at the lower position; repeat until one cluster is left.
+    const size_t r = size_t(std::max(1, opts.window_radius));
+    PairCost cost{&cl, c * c, !directional, has_cone};
+    std::vector<float> costs;  // costs[i * r + k]: cost of (i, i + 1 + k)
+    std::vector<int32_t> best;
+    std::vector<int32_t> new_id;  // per position: the new node's offset (merges), else -1
+    Clusters next;
+    while (cl.size() > 1) {
+        size_t m = cl.size();
+        costs.assign(m * r, kInfinity);
+        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+            for (size_t k = 0; k < r && i + 1 + k < m; ++k) costs[i * r + k] = cost(i, i + 1 + k);
+        });
+        best.assign(m, -1);
+        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+            // Ascending j with a strict comparison: ties go to the smaller index, which keeps the
+            // global best pair mutual.
+            float bc = kInfinity;
+            int32_t bj = -1;
+            for (size_t k = std::min(r, i); k >= 1; --k) {
+                float v = costs[(i - k) * r + (k - 1)];
+                if (v < bc || bj < 0) bc = v, bj = int32_t(i - k);
+            }
+            for (size_t k = 0; k < r && i + 1 + k < m; ++k) {
+                float v = costs[i * r + k];
+                if (v < bc || bj < 0) bc = v, bj = int32_t(i + 1 + k);
+            }
+            best[i] = bj;
+        });
+
+        // Number the merges in position order (deterministic) and lay out the next clusters.
+        new_id.assign(m, -1);
+        size_t merges = 0, kept = 0;
+        std::vector<int32_t> next_pos(m, -1);
+        for (size_t i = 0; i < m; ++i) {
+            size_t j = size_t(best[i]);
+            bool mutual = size_t(best[j]) == i;
+            if (mutual && j < i) continue;  // absorbed by its partner
+            if (mutual) new_id[i] = int32_t(merges++);
+            next_pos[i] = int32_t(kept++);
+        }
+        if (merges == 0) {
+            // Cannot happen with an exactly symmetric cost; merge the first two rather than loop.
+            best[0] = 1, best[1] = 0, new_id.assign(m, -1), new_id[0] = 0, merges = 1;
+            kept = 0;
+            for (size_t i = 0; i < m; ++i) next_pos[i] = i == 1 ? -1 : int32_t(kept++);
+        }
+
+        size_t first_new = m_nodes.size();
+        m_nodes.resize(first_new + merges);
+        next.resize(kept);
+        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+            if (next_pos[i] < 0) return;
+            size_t p = size_t(next_pos[i]);
+            if (new_id[i] < 0) {
+                next.node[p] = cl.node[i], next.box[p] = cl.box[i], next.axis[p] = cl.axis[i];
+                next.theta[p] = cl.theta[i], next.lum[p] = cl.lum[i];
+                return;
+            }
+            size_t id = first_new + size_t(new_id[i]);
+            int32_t a = cl.node[i], b = cl.node[size_t(best[i])];
+            const LightTreeNode &na = m_nodes[size_t(a)], &nb = m_nodes[size_t(b)];
+            LightTreeNode node;
+            node.kind = kind;
+            node.children[0] = a, node.children[1] = b;
+            node.intensity = na.intensity + nb.intensity;
+            node.bounds = na.bounds;
+            node.bounds.expand(nb.bounds);
+            node.cone = has_cone ? union_cones(na.cone, nb.cone) : DirectionCone::entire_sphere();
+            // Representative: a child's, with probability proportional to its luminance.
+            float la = std::max(0.f, na.intensity.luminance());
+            float lb = std::max(0.f, nb.intensity.luminance());
+            Rng rng(hash_ints(opts.seed, uint64_t(kind), id));
+            float u = rng.next_float();
+            bool pick_a = la + lb > 0 ? u * (la + lb) < la : u < 0.5f;
+            node.light = pick_a ? na.light : nb.light;
+            m_nodes[id] = node;
+            next.node[p] = int32_t(id), next.box[p] = node.bounds, next.axis[p] = node.cone.axis;
+            next.theta[p] = cone_angle(node.cone), next.lum[p] = la + lb;
+        });
+        std::swap(cl, next);
+    }
+    m_roots[int(kind)] = cl.node[0];
+}
+
+}  // namespace ml

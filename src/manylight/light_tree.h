@@ -1,0 +1,67 @@
+// The Lightcuts light tree (Walter et al. 2005): one binary tree per kind of point light (omni,
+// oriented, directional) over the indices of a light vector. Every node is a cluster of lights
+// with a representative light, the summed RGB intensity, the bounding box of the positions and
+// the bounding cone of directions; the lightcuts integrator walks a cut through it using the
+// error bounds of manylight/bounds.h.
+//
+// Built bottom-up by Parallel Locally-Ordered Clustering (Meister & Bittner 2018) under the
+// Lightcuts metric I * (alpha^2 + c^2 (1 - cos beta)^2), in O(N log N).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/color.h"
+#include "core/cone.h"
+#include "core/math.h"
+#include "manylight/point_light.h"
+
+namespace ml {
+
+struct LightTreeNode {
+    Bounds3 bounds;      // positions of the node's lights (directional lights: unused, empty)
+    DirectionCone cone;  // oriented: lobe axes; directional: travel directions; omni: the sphere
+    RGB intensity;       // sum of the lights' intensities
+    int32_t children[2] = {-1, -1};  // node indices; both -1 for a leaf
+    int32_t light = -1;  // the representative light (a leaf: its light), index into the lights
+    PointLightKind kind = PointLightKind::Omni;
+
+    bool is_leaf() const { return children[0] < 0; }
+};
+
+struct LightTreeOptions {
+    uint64_t seed = 0;  // representative choices; the same seed gives the same tree
+    // c of the metric for oriented lights: the scene's bounding-box diagonal. <= 0: the diagonal
+    // of the oriented lights' own bounding box.
+    float scene_diagonal = 0;
+    int window_radius = 16;  // PLOC's search radius (neighbours on each side)
+};
+
+class LightTree {
+public:
+    LightTree() = default;
+    explicit LightTree(const std::vector<PointLight>& lights, const LightTreeOptions& opts = {});
+
+    // Root node of the tree of one kind, or -1 when there is no light of that kind.
+    int32_t root(PointLightKind kind) const { return m_roots[int(kind)]; }
+    const LightTreeNode& node(int32_t i) const { return m_nodes[size_t(i)]; }
+    const std::vector<LightTreeNode>& nodes() const { return m_nodes; }
+    size_t node_count() const { return m_nodes.size(); }
+    size_t light_count() const { return m_light_count; }
+
+private:
+    void build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
+                    const LightTreeOptions& opts);
+
+    std::vector<LightTreeNode> m_nodes;
+    int32_t m_roots[3] = {-1, -1, -1};
+    size_t m_light_count = 0;
+};
+
+// The Lightcuts clustering metric of a cluster: I (alpha^2 + c^2 (1 - cos beta)^2), I the
+// luminance of its intensity, alpha the diagonal of its box (0 when no_box), beta its cone's
+// half-angle. Exposed for tests.
+float light_cluster_metric(float luminance, const Bounds3& b, float cone_theta, float c,
+                           bool no_box);
+
+}  // namespace ml

@@ -1,0 +1,201 @@
+// Light tree invariants: boxes, cones and intensities of every node hold their children's, each
+// light sits in exactly one leaf, representatives come from the subtree, builds are
+// deterministic.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+#include "core/rng.h"
+#include "manylight/light_tree.h"
+#include "tree_test_helpers.h"
+
+using namespace ml;
+using namespace ml::tree_test;
+
+namespace {
+
+bool box_contains(const Bounds3& outer, const Bounds3& inner) {
+    if (inner.empty()) return true;
+    return outer.lo.x <= inner.lo.x && outer.lo.y <= inner.lo.y && outer.lo.z <= inner.lo.z &&
+           outer.hi.x >= inner.hi.x && outer.hi.y >= inner.hi.y && outer.hi.z >= inner.hi.z;
+}
+
+// Walks the subtree of `n`, checking every node, and returns the lights of its leaves.
+void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights, int32_t n,
+                   std::vector<int32_t>* leaves, std::vector<int>* seen) {
+    const LightTreeNode& node = tree.node(n);
+    size_t first = leaves->size();
+    if (node.is_leaf()) {
+        ASSERT_GE(node.light, 0);
+        ASSERT_LT(size_t(node.light), lights.size());
+        const PointLight& pl = lights[size_t(node.light)];
+        EXPECT_EQ(pl.kind, node.kind);
+        EXPECT_EQ(node.intensity, pl.intensity);
+        (*seen)[size_t(node.light)]++;
+        leaves->push_back(node.light);
+    } else {
+        for (int32_t c : node.children) {
+            ASSERT_GE(c, 0);
+            const LightTreeNode& child = tree.node(c);
+            EXPECT_EQ(child.kind, node.kind);
+            EXPECT_TRUE(box_contains(node.bounds, child.bounds));
+            if (node.kind != PointLightKind::Omni && !node.cone.is_entire_sphere()) {
+                // The child's cone inside the parent's: axis offset plus its half-angle.
+                float lhs = angle_between(node.cone.axis, child.cone.axis) + cone_angle(child.cone);
+                EXPECT_LE(lhs, cone_angle(node.cone) + 1e-5f);
+            }
+            check_subtree(tree, lights, c, leaves, seen);
+        }
+        const LightTreeNode &a = tree.node(node.children[0]), &b = tree.node(node.children[1]);
+        RGB sum = a.intensity + b.intensity;
+        EXPECT_EQ(node.intensity, sum);
+    }
+    // Every light of the subtree: inside the box and the cone; intensities add up; the
+    // representative is one of them.
+    double total[3] = {0, 0, 0};
+    bool rep_found = false;
+    for (size_t k = first; k < leaves->size(); ++k) {
+        const PointLight& pl = lights[size_t((*leaves)[k])];
+        if (node.kind != PointLightKind::Directional) {
+            Bounds3 pb;
+            pb.expand(pl.p);
+            EXPECT_TRUE(box_contains(node.bounds, pb));
+        } else {
+            EXPECT_TRUE(node.bounds.empty());
+        }
+        if (node.kind != PointLightKind::Omni) EXPECT_TRUE(cone_contains(node.cone, pl.n));
+        for (int c = 0; c < 3; ++c) total[c] += pl.intensity[c];
+        rep_found |= (*leaves)[k] == node.light;
+    }
+    EXPECT_TRUE(rep_found) << "representative " << node.light << " not in subtree of " << n;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(node.intensity[c], total[c], 1e-4 * total[c] + 1e-6);
+}
+
+void check_tree(const std::vector<PointLight>& lights, const LightTree& tree) {
+    std::vector<int> seen(lights.size(), 0);
+    size_t counts[3] = {0, 0, 0};
+    for (const PointLight& pl : lights) counts[int(pl.kind)]++;
+    for (PointLightKind kind :
+         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+        int32_t root = tree.root(kind);
+        if (counts[int(kind)] == 0) {
+            EXPECT_EQ(root, -1);
+            continue;
+        }
+        ASSERT_GE(root, 0);
+        EXPECT_EQ(tree.node(root).kind, kind);
+        std::vector<int32_t> leaves;
+        check_subtree(tree, lights, root, &leaves, &seen);
+        EXPECT_EQ(leaves.size(), counts[int(kind)]);
+    }
+    for (size_t i = 0; i < lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
+    EXPECT_EQ(tree.node_count(),
+              2 * lights.size() - (counts[0] > 0) - (counts[1] > 0) - (counts[2] > 0));
+}
+
+}  // namespace
+
+TEST(LightTree, EmptyAndSingle) {
+    LightTree empty(std::vector<PointLight>{});
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(empty.root(PointLightKind(k)), -1);
+    std::vector<PointLight> one = random_lights(1, LightMix::Oriented, 3);
+    LightTree t(one);
+    int32_t r = t.root(PointLightKind::Oriented);
+    ASSERT_GE(r, 0);
+    EXPECT_TRUE(t.node(r).is_leaf());
+    EXPECT_EQ(t.node(r).light, 0);
+}
+
+TEST(LightTree, InvariantsEachKind) {
+    for (LightMix mix :
+         {LightMix::Omni, LightMix::Oriented, LightMix::Directional, LightMix::Mixed}) {
+        for (size_t n : {2, 3, 17, 100, 1000, 5000}) {
+            std::vector<PointLight> lights = random_lights(n, mix, 100 + n);
+            LightTree tree(lights);
+            SCOPED_TRACE(testing::Message() << "mix " << int(mix) << " n " << n);
+            check_tree(lights, tree);
+        }
+    }
+}
+
+TEST(LightTree, InvariantsWithDegenerateInput) {
+    // Coincident positions, identical normals, zero intensities: ties everywhere.
+    std::vector<PointLight> lights(300);
+    for (size_t i = 0; i < lights.size(); ++i) {
+        lights[i].p = Vec3(1, 2, 3);
+        lights[i].n = Vec3(0, 0, 1);
+        lights[i].kind = PointLightKind(i % 3);
+        lights[i].intensity = i % 7 == 0 ? RGB(1, 0, 0) : RGB(0);
+    }
+    LightTree tree(lights);
+    check_tree(lights, tree);
+}
+
+TEST(LightTree, Deterministic) {
+    std::vector<PointLight> lights = random_lights(20000, LightMix::Mixed, 7);
+    LightTreeOptions opts;
+    opts.seed = 42;
+    LightTree a(lights, opts), b(lights, opts);
+    ASSERT_EQ(a.node_count(), b.node_count());
+    for (size_t i = 0; i < a.node_count(); ++i) {
+        const LightTreeNode &x = a.nodes()[i], &y = b.nodes()[i];
+        ASSERT_EQ(x.light, y.light);
+        ASSERT_EQ(x.children[0], y.children[0]);
+        ASSERT_EQ(x.children[1], y.children[1]);
+        ASSERT_EQ(x.intensity, y.intensity);
+        ASSERT_EQ(x.cone.axis, y.cone.axis);
+        ASSERT_EQ(x.cone.cos_theta, y.cone.cos_theta);
+    }
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(a.root(PointLightKind(k)), b.root(PointLightKind(k)));
+}
+
+TEST(LightTree, RepresentativeProportionalToIntensity) {
+    // Two lights of luminance 1 and 3: over many seeds the brighter represents the root 3/4 of
+    // the time.
+    std::vector<PointLight> lights(2);
+    lights[0].p = Vec3(0, 0, 0), lights[0].intensity = RGB(1);
+    lights[1].p = Vec3(1, 0, 0), lights[1].intensity = RGB(3);
+    int bright = 0, trials = 4000;
+    for (int s = 0; s < trials; ++s) {
+        LightTreeOptions opts;
+        opts.seed = uint64_t(s);
+        LightTree t(lights, opts);
+        bright += t.node(t.root(PointLightKind::Omni)).light == 1;
+    }
+    // Binomial sd: sqrt(4000 * 0.75 * 0.25) = 27.
+    EXPECT_NEAR(bright, 0.75 * trials, 5 * 27.4);
+}
+
+TEST(LightTree, MetricPrefersCloseAndAligned) {
+    Bounds3 small, big;
+    small.expand(Vec3(0, 0, 0)), small.expand(Vec3(1, 0, 0));
+    big.expand(Vec3(0, 0, 0)), big.expand(Vec3(10, 0, 0));
+    EXPECT_LT(light_cluster_metric(1, small, 0, 0, false),
+              light_cluster_metric(1, big, 0, 0, false));
+    EXPECT_LT(light_cluster_metric(1, small, 0.1f, 5, false),
+              light_cluster_metric(1, small, 1.f, 5, false));
+    EXPECT_EQ(light_cluster_metric(1, big, 0.5f, 1, true),
+              light_cluster_metric(1, small, 0.5f, 1, true));
+}
+
+TEST(LightTree, Builds100kLights) {
+    std::vector<PointLight> lights = random_lights(100000, LightMix::Mixed, 11);
+    LightTree tree(lights);
+    std::vector<int> seen(lights.size(), 0);
+    for (const LightTreeNode& n : tree.nodes())
+        if (n.is_leaf()) seen[size_t(n.light)]++;
+    for (size_t i = 0; i < lights.size(); ++i) ASSERT_EQ(seen[i], 1);
+    // Cluster quality: nodes near the leaves are small (Morton order plus the metric keep them
+    // local), far below the scene's extent of 20.
+    double sum_diag = 0;
+    int count = 0;
+    for (const LightTreeNode& n : tree.nodes())
+        if (!n.is_leaf() && n.kind == PointLightKind::Omni && tree.node(n.children[0]).is_leaf() &&
+            tree.node(n.children[1]).is_leaf()) {
+            sum_diag += length(n.bounds.diagonal());
+            ++count;
+        }
+    ASSERT_GT(count, 0);
+    EXPECT_LT(sum_diag / count, 1.0);
+}

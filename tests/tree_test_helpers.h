@@ -1,0 +1,69 @@
+// Random point-light sets for the light tree and bound tests.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "core/rng.h"
+#include "manylight/point_light.h"
+
+namespace ml::tree_test {
+
+enum class LightMix { Omni, Oriented, Directional, Mixed };
+
+inline Vec3 random_unit(Rng& rng) {
+    float z = 1 - 2 * rng.next_float();
+    float r = std::sqrt(std::max(0.f, 1 - z * z)), phi = 2 * kPi * rng.next_float();
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+// n lights in [-10, 10]^3, half of them in a few tight clumps; normals random or clumped
+// about a few axes; intensities spanning four orders of magnitude, coloured. Some omni lights
+// are spots.
+inline std::vector<PointLight> random_lights(size_t n, LightMix mix, uint64_t seed) {
+    Rng rng(seed);
+    Vec3 clump[4], axes[3];
+    for (Vec3& c : clump)
+        c = Vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 20 - Vec3(10, 10, 10);
+    for (Vec3& a : axes) a = random_unit(rng);
+    std::vector<PointLight> lights(n);
+    for (size_t i = 0; i < n; ++i) {
+        PointLight& pl = lights[i];
+        if (rng.next_float() < 0.5f)
+            pl.p =
+                clump[rng.next_u32() % 4] +
+                (Vec3(rng.next_float(), rng.next_float(), rng.next_float()) - Vec3(.5f, .5f, .5f));
+        else
+            pl.p =
+                Vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 20 - Vec3(10, 10, 10);
+        if (rng.next_float() < 0.5f) {
+            Vec3 a = axes[rng.next_u32() % 3];
+            pl.n = normalize(a + random_unit(rng) * (0.2f * rng.next_float()));
+        } else {
+            pl.n = random_unit(rng);
+        }
+        float scale = std::pow(10.f, 4 * rng.next_float() - 2);
+        pl.intensity = RGB(rng.next_float(), rng.next_float(), rng.next_float()) * scale;
+        switch (mix) {
+            case LightMix::Omni:
+                pl.kind = PointLightKind::Omni;
+                break;
+            case LightMix::Oriented:
+                pl.kind = PointLightKind::Oriented;
+                break;
+            case LightMix::Directional:
+                pl.kind = PointLightKind::Directional;
+                break;
+            case LightMix::Mixed:
+                pl.kind = PointLightKind(rng.next_u32() % 3);
+                break;
+        }
+        if (pl.kind == PointLightKind::Omni && rng.next_float() < 0.3f) {
+            pl.cos_end = std::cos(0.8f * rng.next_float() + 0.1f);
+            pl.cos_start = pl.cos_end + (1 - pl.cos_end) * rng.next_float();
+        }
+    }
+    return lights;
+}
+
+}  // namespace ml::tree_test
