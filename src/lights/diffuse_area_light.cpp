@@ -2,6 +2,8 @@
 // (O(log n) in the CDF), then a uniform point on it, so the area density is 1 / total area
 // everywhere and pdf_li needs only the hit point and its normal.
 #include "lights/lights.h"
+#include "manylight/point_light_set.h"
+#include "sampling/sampler.h"
 #include "sampling/distributions.h"
 #include "sampling/warps.h"
 
@@ -83,6 +85,24 @@ public:
         *pdf_dir = m_two_sided ? 0.5f * std::abs(c) * kInvPi : pdf_cosine_hemisphere(c);
     }
     RGB power() const override { return m_L * (kPi * m_area * (m_two_sided ? 2.f : 1.f)); }
+    // n points stratified over the area (uniform density 1 / area): each stands for area / n of
+    // the surface, a cosine lobe of peak intensity L * area / n per emitting side.
+    void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const override {
+        if (m_area <= 0 || n <= 0) return;
+        Vec2 shift = sampler.get_2d();
+        RGB I = m_L * (m_area / float(n));
+        for (int i = 0; i < n; ++i) {
+            PointLight pl;
+            sample_point(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &pl.p, &pl.n);
+            pl.intensity = I;
+            pl.kind = PointLightKind::Oriented;
+            out.push_back(pl);
+            if (m_two_sided) {
+                pl.n = -pl.n;
+                out.push_back(pl);
+            }
+        }
+    }
 
 private:
     void sample_point(Vec2 u, Vec3* p, Vec3* n) const {

@@ -1,6 +1,8 @@
 // Directional (distant) lights; light paths start on a disk the size of the scene's bounding
 // sphere, facing the light.
 #include "lights/lights.h"
+#include "manylight/point_light_set.h"
+#include "sampling/sampler.h"
 #include "sampling/warps.h"
 
 namespace ml {
@@ -42,6 +44,14 @@ public:
         *pdf_dir = 0;
     }
     RGB power() const override { return m_L * (kPi * m_radius * m_radius); }
+    // m_L is already the irradiance at normal incidence (a delta direction).
+    void to_point_lights(int, Sampler&, std::vector<PointLight>& out) const override {
+        PointLight pl;
+        pl.n = -m_w;
+        pl.intensity = m_L;
+        pl.kind = PointLightKind::Directional;
+        out.push_back(pl);
+    }
 
 private:
     Vec3 m_w;

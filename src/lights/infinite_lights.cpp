@@ -3,6 +3,8 @@
 // pixels. Lookups are nearest-pixel (as pbrt-v4), so the sampling density is exactly
 // proportional to the sampled function within each pixel.
 #include "lights/lights.h"
+#include "manylight/point_light_set.h"
+#include "sampling/sampler.h"
 #include "sampling/distributions.h"
 #include "sampling/warps.h"
 
@@ -55,6 +57,18 @@ public:
         *pdf_dir = pdf_uniform_sphere();
     }
     RGB power() const override { return m_L * (4 * kPi * kPi * m_radius * m_radius); }
+    // n stratified directions over the sphere, each the irradiance L * 4 pi / n.
+    void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const override {
+        if (n <= 0) return;
+        Vec2 shift = sampler.get_2d();
+        for (int i = 0; i < n; ++i) {
+            PointLight pl;
+            pl.n = -sample_uniform_sphere(shifted_hammersley(uint32_t(i), uint32_t(n), shift));
+            pl.intensity = m_L * (4 * kPi / float(n));
+            pl.kind = PointLightKind::Directional;
+            out.push_back(pl);
+        }
+    }
 
 private:
     RGB m_L;
@@ -145,6 +159,25 @@ public:
             sum += row * dw;
         }
         return sum * (kPi * m_radius * m_radius);
+    }
+    // n directions importance-sampled from the map (stratified in its unit square), each the
+    // irradiance L(w) / (pdf(w) n) travelling along -w.
+    void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const override {
+        if (n <= 0) return;
+        Vec2 shift = sampler.get_2d();
+        for (int i = 0; i < n; ++i) {
+            Vec3 wi;
+            float pdf;
+            Vec2 uv;
+            if (!sample_direction(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &wi, &pdf,
+                                  &uv))
+                continue;
+            PointLight pl;
+            pl.n = -wi;
+            pl.intensity = lookup(uv) / (pdf * float(n));
+            pl.kind = PointLightKind::Directional;
+            out.push_back(pl);
+        }
     }
 
 private:

@@ -11,6 +11,9 @@
 
 namespace ml {
 
+struct PointLight;
+class Sampler;
+
 enum class LightType {
     DeltaPosition,   // point, spot
     DeltaDirection,  // distant
@@ -72,6 +75,13 @@ public:
 
     // Total emitted power (flux), RGB.
     virtual RGB power() const = 0;
+
+    // Appends point lights standing for this light (Lightcuts, DESIGN.md section 2): one for a
+    // point, spot or distant light; `n` samples for area lights (two lights per sample when
+    // two-sided) and environment lights, stratified with randomness from `sampler`, so that the
+    // point lights' emission is an unbiased estimate of the light's. Lights that cannot be
+    // turned into point lights append none.
+    virtual void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const {}
 
     int index = -1;  // position in the scene's light list, set by the scene
 };

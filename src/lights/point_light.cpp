@@ -1,5 +1,7 @@
 // Isotropic point lights.
 #include "lights/lights.h"
+#include "manylight/point_light_set.h"
+#include "sampling/sampler.h"
 #include "sampling/warps.h"
 
 namespace ml {
@@ -39,16 +41,26 @@ public:
         *pdf_dir = pdf_uniform_sphere();
     }
     RGB power() const override { return m_I * (4 * kPi); }
+    void to_point_lights(int, Sampler&, std::vector<ml::PointLight>& out) const override {
+        ml::PointLight pl;
+        pl.p = m_p;
+        pl.intensity = m_I;
+        pl.kind = PointLightKind::Omni;
+        out.push_back(pl);
+    }
 
 private:
     Vec3 m_p;
     RGB m_I;
 };
 
+// ml::PointLight (the Lightcuts point light) is also visible outside this namespace.
+using IsotropicPointLight = PointLight;
+
 }  // namespace
 
 std::unique_ptr<Light> make_point_light(const Vec3& p, const RGB& I) {
-    return std::make_unique<PointLight>(p, I);
+    return std::make_unique<IsotropicPointLight>(p, I);
 }
 
 }  // namespace ml

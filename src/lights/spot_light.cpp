@@ -1,5 +1,7 @@
 // Spot lights with pbrt-v4's smoothstep falloff between the inner and outer cone.
 #include "lights/lights.h"
+#include "manylight/point_light_set.h"
+#include "sampling/sampler.h"
 #include "sampling/warps.h"
 
 namespace ml {
@@ -55,6 +57,17 @@ public:
     }
     // The smoothstep integrates to exactly half the falloff band in cos theta.
     RGB power() const override { return m_I * (2 * kPi * (1 - 0.5f * (m_cos_start + m_cos_end))); }
+    // An omni light with the same cone and smoothstep falloff (point_light_intensity).
+    void to_point_lights(int, Sampler&, std::vector<PointLight>& out) const override {
+        PointLight pl;
+        pl.p = m_p;
+        pl.n = m_frame.n;
+        pl.intensity = m_I;
+        pl.kind = PointLightKind::Omni;
+        pl.cos_start = m_cos_start;
+        pl.cos_end = m_cos_end;
+        out.push_back(pl);
+    }
 
 private:
     // Intensity leaving towards unit w.

@@ -7,6 +7,12 @@ RGB point_light_intensity(const PointLightSet& set, const PointLight& pl, const 
         case PointLightKind::Directional:
             return pl.intensity;
         case PointLightKind::Omni: {
+            // VPLs on surfaces that transmit: the BSDF on both sides, as for glossy VPLs.
+            if (pl.surface >= 0) {
+                const VplSurface& s = set.surfaces[size_t(pl.surface)];
+                return s.flux * s.bsdf.eval(w, s.wi, TransportMode::Radiance) *
+                       abs_dot(w, s.bsdf.frame().n);
+            }
             if (pl.cos_end <= -1.f) return pl.intensity;
             float c = dot(pl.n, w);
             if (c <= pl.cos_end) return RGB();

@@ -1,0 +1,75 @@
+#include "manylight/point_light_set.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "lights/light.h"
+#include "manylight/vpl_generator.h"
+#include "sampling/sampler.h"
+#include "scene/scene.h"
+
+namespace ml {
+namespace {
+
+// Point lights of the scene's emitters: area lights share options.area_count samples in
+// proportion to power (at least one each), every infinite light gets options.env_count.
+void add_emitters(const Scene& scene, const PointLightOptions& options, PointLightSet& set) {
+    const auto& lights = scene.lights();
+    double area_power = 0;
+    size_t area_lights = 0;
+    for (const auto& l : lights) {
+        if (l->type() != LightType::Area) continue;
+        area_power += double(std::max(0.f, l->power().luminance()));
+        ++area_lights;
+    }
+    // A separate stream from the VPL paths' (which use sample 0 of their pixels).
+    auto sampler = create_sampler("independent", 1, options.seed);
+    for (size_t i = 0; i < lights.size(); ++i) {
+        const Light& light = *lights[i];
+        int n = 1;
+        if (light.type() == LightType::Area) {
+            double share = area_power > 0
+                               ? double(options.area_count) *
+                                     double(std::max(0.f, light.power().luminance())) / area_power
+                               : double(options.area_count) / double(area_lights);
+            n = std::max(1, int(std::lround(share)));
+        } else if (light.type() == LightType::Infinite) {
+            n = std::max(1, options.env_count);
+        }
+        sampler->start_pixel_sample({int(i), 0}, 1);
+        light.to_point_lights(n, *sampler, set.lights);
+    }
+}
+
+}  // namespace
+
+PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions& options) {
+    auto start = std::chrono::steady_clock::now();
+    PointLightSet set;
+    if (options.emitters) add_emitters(scene, options, set);
+    if (options.vpls) {
+        VplOptions vo;
+        vo.count = options.vpl_count;
+        vo.max_depth = options.vpl_max_depth;
+        vo.glossy = options.vpl_glossy;
+        vo.seed = options.seed;
+        generate_vpls(scene, vo, set);
+    }
+    for (const PointLight& pl : set.lights) {
+        switch (pl.kind) {
+            case PointLightKind::Omni:
+                ++set.omni;
+                break;
+            case PointLightKind::Oriented:
+                ++set.oriented;
+                break;
+            case PointLightKind::Directional:
+                ++set.directional;
+                break;
+        }
+    }
+    set.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return set;
+}
+
+}  // namespace ml

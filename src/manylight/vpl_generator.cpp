@@ -1,0 +1,282 @@
+#include "manylight/vpl_generator.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "integrators/common.h"
+#include "lights/light_sampler.h"
+#include "manylight/point_light_set.h"
+#include "materials/material.h"
+#include "sampling/sampler.h"
+#include "sampling/warps.h"
+#include "scene/scene.h"
+
+namespace ml {
+namespace {
+
+// Paths per task: large enough to amortise a sampler and an arena, small enough to balance.
+constexpr size_t kChunkPaths = 1024;
+
+// The VPLs of kChunkPaths consecutive light paths, fluxes not yet divided by the path count.
+struct Chunk {
+    std::vector<PointLight> lights;
+    std::vector<VplSurface> surfaces;  // PointLight::surface indexes these (chunk-local)
+    std::vector<uint32_t> path_end;    // lights.size() after each path
+    std::unique_ptr<ScratchBuffer> arena;
+};
+
+RGB max_rgb(const RGB& a, const RGB& b) {
+    RGB r;
+    for (int c = 0; c < 3; ++c) r[c] = std::max(a[c], b[c]);
+    return r;
+}
+
+class VplTracer {
+public:
+    VplTracer(const Scene& scene, const VplOptions& options)
+        : m_scene(scene), m_options(options), m_light_sampler("power", scene.lights()) {}
+
+    void trace_chunk(size_t chunk_index, Chunk& chunk) const {
+        auto sampler = create_sampler("independent", 1, m_options.seed);
+        ScratchBuffer scratch;
+        size_t first = chunk_index * kChunkPaths;
+        chunk.path_end.reserve(kChunkPaths);
+        for (size_t k = first; k < first + kChunkPaths; ++k) {
+            sampler->start_pixel_sample({int(k & 0xfffff), int(k >> 20)}, 0);
+            trace_path(*sampler, scratch, chunk);
+            scratch.reset();
+            chunk.path_end.push_back(uint32_t(chunk.lights.size()));
+        }
+    }
+
+private:
+    void trace_path(Sampler& sampler, ScratchBuffer& scratch, Chunk& chunk) const {
+        // Step 1: a light by power, a ray leaving it; beta is the flux the path carries.
+        float u_light = sampler.get_1d();
+        Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
+        auto sl = m_light_sampler.sample(u_light);
+        if (!sl || sl->pmf == 0) return;
+        auto le = sl->light->sample_le(u_pos, u_dir);
+        if (!le || le->L.is_black() || le->pdf_pos == 0 || le->pdf_dir == 0) return;
+        bool on_surface = length_squared(le->n_light) > 0;
+        float cos_l = on_surface ? abs_dot(le->n_light, le->ray.d) : 1.f;
+        RGB beta = le->L * (cos_l / (sl->pmf * le->pdf_pos * le->pdf_dir));
+        float beta0 = beta.max_component();
+        if (!(beta0 > 0) || !beta.is_finite()) return;
+
+        // Step 2: follow it, leaving a VPL at every surface that is not delta (nor, when
+        // skipping glossy surfaces, glossy), and carrying on by importance-mode BSDF sampling.
+        // Off the emitter's surface (sample_le leaves the origin on it), as spawn_ray does.
+        Ray ray = le->ray;
+        if (on_surface) {
+            float scale = 1e-4f * std::max(1.f, max_component(vabs(ray.o)));
+            ray.o += le->n_light * (dot(ray.d, le->n_light) < 0 ? -scale : scale);
+        }
+        SurfaceInteraction si;
+        int deposited = 0;
+        int max_bounces = 4 * m_options.max_depth + 16;  // delta and skipped surfaces included
+        for (int bounce = 0; bounce < max_bounces; ++bounce) {
+            if (!m_scene.intersect(ray, &si)) break;
+            Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
+            if (!bsdf) break;
+            uint8_t flags = bsdf.flags();
+            bool glossy = flags & kBxdfGlossy;
+            if (bsdf.has_nonspecular() && (m_options.glossy || !glossy)) {
+                deposit(si, bsdf, beta, chunk);
+                if (++deposited >= m_options.max_depth) break;
+            }
+            float uc = sampler.get_1d();
+            Vec2 u = sampler.get_2d();
+            float u_rr = sampler.get_1d();
+            auto bs = bsdf.sample(si.wo, uc, u, TransportMode::Importance);
+            if (!bs) break;
+            beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+            ray = spawn_ray(si, bs->wi);
+            // Russian roulette after the second bounce, on the throughput relative to the start.
+            if (bounce >= 1) {
+                float q = std::max(0.f, 1.f - beta.max_component() / beta0);
+                if (u_rr < q) break;
+                beta = beta / (1.f - q);
+            }
+            if (beta.is_black() || !beta.is_finite()) break;
+        }
+    }
+
+    // A VPL at si for flux `beta` arriving from si.wo.
+    void deposit(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta,
+                 Chunk& chunk) const {
+        PointLight pl;
+        pl.p = si.p;
+        pl.is_vpl = true;
+        Vec3 wi = si.wo;
+        // The side the light arrived on.
+        pl.n = bsdf.frame().n;
+        if (dot(pl.n, wi) < 0) pl.n = -pl.n;
+        uint8_t flags = bsdf.flags();
+        bool transmits = flags & kBxdfTransmission;
+        if (!transmits && !(flags & kBxdfGlossy)) {
+            // Lambertian: f is constant, I(w) = flux f cos(n, w), a cosine lobe.
+            pl.kind = PointLightKind::Oriented;
+            pl.intensity = beta * bsdf.eval(pl.n, wi, TransportMode::Radiance);
+            if (pl.intensity.is_black()) return;
+            chunk.lights.push_back(pl);
+            return;
+        }
+        // Glossy or transmitting: keep the BSDF for exact evaluation; the Bxdf is rebuilt in the
+        // chunk's arena, which the set keeps (the tracing scratch is reset after every path).
+        if (!chunk.arena) chunk.arena = std::make_unique<ScratchBuffer>(256 * 1024);
+        Bsdf kept = si.material->get_bsdf(si, *chunk.arena);
+        // Oriented lights are bounded by intensity * cos, so they need a bound of f alone;
+        // omni lights (both sides) a bound of f |cos|.
+        pl.kind = transmits ? PointLightKind::Omni : PointLightKind::Oriented;
+        pl.intensity = beta * estimate_max_bsdf_value(kept, wi, transmits);
+        pl.surface = int32_t(chunk.surfaces.size());
+        chunk.surfaces.push_back(VplSurface{kept, wi, beta});
+        chunk.lights.push_back(pl);
+    }
+
+    const Scene& m_scene;
+    const VplOptions& m_options;
+    LightSampler m_light_sampler;
+};
+
+// Spherical Fibonacci point i of n (unit vector).
+Vec3 fibonacci_direction(int i, int n) {
+    constexpr float kGolden = 0.6180339887f;
+    float z = 1 - (2 * float(i) + 1) / float(n);
+    float phi = 2 * kPi * (float(i) * kGolden - std::floor(float(i) * kGolden));
+    float r = safe_sqrt(1 - z * z);
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+}  // namespace
+
+RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos) {
+    // Probe directions: a spherical Fibonacci set, the normal, the mirror direction, and BSDF
+    // samples from wi (which crowd where f(wi, .) = f(., wi) peaks, reciprocity); the largest
+    // value seen, doubled for what falls between probes. An estimate, not a proof: it is
+    // replaced by Bxdf bounds when those exist.
+    const Vec3& n = bsdf.frame().n;
+    RGB best;
+    Vec3 peak = n;
+    float peak_value = -1;
+    auto probe = [&](const Vec3& w) {
+        RGB f = bsdf.eval(w, wi, TransportMode::Radiance);
+        if (with_cos) f = f * abs_dot(w, n);
+        if (!f.is_finite()) return false;
+        best = max_rgb(best, f);
+        if (f.max_component() <= peak_value) return false;
+        peak_value = f.max_component();
+        peak = w;
+        return true;
+    };
+    constexpr int kGrid = 96, kSamples = 32;
+    for (int i = 0; i < kGrid; ++i) probe(fibonacci_direction(i, kGrid));
+    probe(n);
+    probe(-n);
+    probe(n * (2 * dot(wi, n)) - wi);
+    // Rings near grazing on both sides, where layered and microfacet lobes grow.
+    Frame f = Frame::from_z(n);
+    for (float c : {0.002f, 0.02f, 0.06f, 0.15f})
+        for (int j = 0; j < 24; ++j) {
+            float phi = 2 * kPi * (float(j) + 0.5f) / 24, s = safe_sqrt(1 - c * c);
+            probe(f.to_world({s * std::cos(phi), s * std::sin(phi), c}));
+            probe(f.to_world({s * std::cos(phi), s * std::sin(phi), -c}));
+        }
+    for (int i = 0; i < kSamples; ++i) {
+        Vec2 u = shifted_hammersley(uint32_t(i), kSamples, Vec2(0.5f / kSamples, 0.5f));
+        auto s = bsdf.sample(wi, (float(i) + 0.5f) / kSamples, u, TransportMode::Radiance);
+        if (s && !s->is_specular()) probe(s->wi);
+    }
+    // Pattern search about the largest value: narrow lobes near grazing peak between probes.
+    for (float step : {0.1f, 0.03f, 0.01f, 0.003f, 0.001f})
+        for (int round = 0; round < 3; ++round) {
+            Frame pf = Frame::from_z(peak);
+            bool moved = false;
+            for (int j = 0; j < 8; ++j) {
+                float phi = 2 * kPi * float(j) / 8;
+                Vec3 d = pf.to_world({std::sin(step) * std::cos(phi),
+                                      std::sin(step) * std::sin(phi), std::cos(step)});
+                moved |= probe(d);
+            }
+            if (!moved) break;
+        }
+    return best * 2.f;
+}
+
+void generate_vpls(const Scene& scene, const VplOptions& options, PointLightSet& set) {
+    if (options.count <= 0 || options.max_depth <= 0 || scene.lights().empty()) return;
+    VplTracer tracer(scene, options);
+    size_t target = size_t(options.count);
+    // Give up on scenes where light paths find no surface (nothing to deposit on).
+    size_t max_chunks = (64 * target + 65536) / kChunkPaths + 1;
+
+    // Step 1: trace chunks of paths in waves until the target is met; each wave's size comes
+    // from the VPLs per path seen so far. The waves only decide how much is traced, never what
+    // a path holds, so the kept set below does not depend on them.
+    std::vector<Chunk> chunks;
+    size_t total = 0;
+    while (total < target && chunks.size() < max_chunks) {
+        size_t traced = chunks.size() * kChunkPaths;
+        double per_path = traced > 0 && total > 0 ? double(total) / double(traced) : 1.0;
+        double paths = traced > 0 ? double(target - total) / per_path * 1.05 : double(target) / 4;
+        size_t wave = std::clamp(size_t(std::ceil(paths / double(kChunkPaths))), size_t(1),
+                                 max_chunks - chunks.size());
+        if (traced > 0 && total == 0)
+            wave = std::min(chunks.size() * 2, max_chunks - chunks.size());
+        size_t begin = chunks.size();
+        chunks.resize(begin + wave);
+        tbb::parallel_for(tbb::blocked_range<size_t>(begin, begin + wave, 1),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                              for (size_t c = r.begin(); c != r.end(); ++c)
+                                  tracer.trace_chunk(c, chunks[c]);
+                          });
+        for (size_t c = begin; c < chunks.size(); ++c) total += chunks[c].lights.size();
+    }
+
+    // Step 2: keep paths in order up to the first at which the target is reached.
+    size_t kept_paths = 0, kept_vpls = 0;
+    for (const Chunk& ch : chunks) {
+        size_t before = kept_vpls;
+        auto it = std::find_if(ch.path_end.begin(), ch.path_end.end(),
+                               [&](uint32_t e) { return before + e >= target; });
+        if (it == ch.path_end.end()) {
+            kept_paths += ch.path_end.size();
+            kept_vpls += ch.lights.size();
+            continue;
+        }
+        kept_paths += size_t(it - ch.path_end.begin()) + 1;
+        kept_vpls += *it;
+        break;
+    }
+    if (kept_paths == 0) return;
+
+    // Step 3: concatenate with fluxes divided by the number of paths kept.
+    float inv_paths = 1.f / float(kept_paths);
+    set.lights.reserve(set.lights.size() + kept_vpls);
+    size_t left = kept_vpls;
+    for (Chunk& ch : chunks) {
+        if (left == 0) break;
+        size_t take = std::min(left, ch.lights.size());
+        for (size_t i = 0; i < take; ++i) {
+            PointLight pl = ch.lights[i];
+            pl.intensity = pl.intensity * inv_paths;
+            if (pl.surface >= 0) {
+                VplSurface s = ch.surfaces[size_t(pl.surface)];
+                s.flux = s.flux * inv_paths;
+                pl.surface = int32_t(set.surfaces.size());
+                set.surfaces.push_back(s);
+            }
+            set.lights.push_back(pl);
+        }
+        if (ch.arena) set.arenas.push_back(std::move(ch.arena));
+        left -= take;
+    }
+    set.vpls += kept_vpls;
+    set.light_paths += kept_paths;
+}
+
+}  // namespace ml
