@@ -88,11 +88,26 @@ private:
     float m_eta;
 };
 
+// The parts of pbrt-v4's clear (albedo 0) coat layer that survive in its BSDF's expected value:
+// the layer's absorption and the random walk's depth limit (see coated_diffuse.cpp).
+struct CoatLayer {
+    float thickness = 0.01f;  // optical depth at normal incidence (pbrt-v4 "thickness")
+    float round_trip = 0;     // coat_internal_round_trip(eta, thickness): precomputed, it costs
+                              // an integral
+    int base_visits = 5;      // pbrt-v4 "maxdepth" 10: the walk reaches the base at most 5 times
+
+    static int visits_for_max_depth(int maxdepth) { return std::max(0, (maxdepth + 1) / 2); }
+};
+
 // A dielectric coat over a Lambertian base, evaluated in closed form (see coated_diffuse.cpp).
 class CoatedDiffuseBxdf final : public Bxdf {
 public:
-    // fdr: fresnel_diffuse_internal(eta), precomputed by the material (it costs an integral).
-    CoatedDiffuseBxdf(const TrowbridgeReitz& distrib, float eta, const RGB& reflectance, float fdr);
+    CoatedDiffuseBxdf(const TrowbridgeReitz& distrib, float eta, const RGB& reflectance,
+                      const CoatLayer& layer);
+    // A clear, non-absorbing layer with an unbounded walk (energy-conserving for a white base);
+    // fdr: fresnel_diffuse_internal(eta).
+    CoatedDiffuseBxdf(const TrowbridgeReitz& distrib, float eta, const RGB& reflectance, float fdr)
+        : CoatedDiffuseBxdf(distrib, eta, reflectance, CoatLayer{0, fdr, 1 << 20}) {}
     uint8_t flags() const override;
     RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
@@ -108,8 +123,9 @@ private:
 
     TrowbridgeReitz m_distrib;
     float m_eta;
-    RGB m_base_scale;     // reflectance / (pi eta^2 (1 - reflectance Fdr)), the diffuse part's
-                          // value without the two Fresnel transmittances
+    float m_thickness;
+    RGB m_base_scale;     // reflectance sum_k (reflectance A)^k / (pi eta^2), the diffuse part's
+                          // value without the transmittances in and out of the coat
     float m_base_weight;  // average escaping albedo, for lobe selection
 };
 

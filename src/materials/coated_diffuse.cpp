@@ -1,24 +1,28 @@
-// A dielectric coat (smooth or GGX-rough) over a Lambertian base, in closed form after
-// Weidlich & Wilkie 2007 and Tungsten's "roughplastic":
+// A dielectric coat (smooth or GGX-rough) over a Lambertian base, in closed form. The diffuse
+// part is the expected value of pbrt-v4's LayeredBxDF random walk (CoatedDiffuseBxDF, clear
+// medium: albedo 0) for a smooth coat:
 //
 //   f(wo, wi) = f_coat(wo, wi)
-//             + (1 - F(cos_i)) (1 - F(cos_o)) R / (pi eta^2 (1 - R Fdr))
+//             + T(cos_o) T(cos_i) tr(wo) tr(wi) R / (pi eta^2) sum_{k<n} (R A)^k
 //
 // f_coat is the coat's specular (delta) or microfacet reflection. Light refracted into the coat
-// reaches the base with transmittance 1 - F(cos_i), is reflected diffusely, and leaves with
-// 1 - F(cos_o); the 1/eta^2 is the radiance compression of the cone it leaves through, and
-// 1 / (1 - R Fdr) sums the geometric series of bounces between the base and the inside of the
-// coat, where Fdr is the cosine-averaged internal Fresnel reflectance (total internal reflection
-// included).
+// reaches the base with transmittance T = 1 - F(cos_i), is reflected diffusely, and leaves with
+// 1 - F(cos_o); the 1/eta^2 is the radiance compression of the cone it leaves through. pbrt-v4
+// attenuates every pass through the layer by tr = exp(-thickness / |cos|) of the refracted
+// direction, even with a clear medium (LayeredBxDF::Tr, thickness 0.01 by default), so a round
+// trip base -> top -> base keeps A = integral 2 mu F_int(mu) exp(-2 thickness / mu) dmu of the
+// light (F_int: internal Fresnel reflectance, total internal reflection included), and its walk
+// stops after "maxdepth" (10) interface events: the base is reached at most n = 5 times, so the
+// geometric series of internal bounces is cut after n terms. For a white base under a smooth
+// coat that is 14% below the energy-conserving 1 / (1 - A) (Weidlich & Wilkie 2007, Tungsten's
+// "roughplastic"), and about 2% darker for a black one.
 //
-// How this differs from pbrt-v4's CoatedDiffuseMaterial, which estimates the layered BSDF
-// stochastically by random walks between the two interfaces:
+// How this still differs from pbrt-v4's CoatedDiffuseMaterial:
 // - deterministic and noise-free: eval and pdf are exact functions, so MIS weights are exact;
-// - the coat scatters once: light reflected between coat microfacets (multiple scattering) is
-//   lost, and the diffuse transmittances use the smooth-interface Fresnel of the macro normal,
-//   not the rough coat's, so rough coats are a little darker at grazing angles than pbrt's;
-// - the layer is thin and clear: "thickness", "g", "maxdepth" and "nsamples" have no effect,
-//   and a medium "albedo" other than zero is rejected by the material factory;
+// - for a rough coat the transmittances and tr use the macro normal's smooth Fresnel and
+//   refraction, where pbrt transmits through the rough interface (and its coat scatters once:
+//   light reflected between coat microfacets is lost in both);
+// - "g" has no effect and a medium "albedo" other than zero is rejected by the material factory;
 // - the internal bounces are taken as perfectly diffuse, where pbrt follows each one.
 // Like pbrt-v4's, the material is two-sided: seen from -z it is mirrored through the surface.
 #include "materials/bxdfs.h"
@@ -30,13 +34,22 @@ using bxdf_detail::cosine_hemisphere_pdf;
 using bxdf_detail::sample_cosine_hemisphere;
 
 CoatedDiffuseBxdf::CoatedDiffuseBxdf(const TrowbridgeReitz& distrib, float eta,
-                                     const RGB& reflectance, float fdr)
-    : m_distrib(distrib), m_eta(eta) {
+                                     const RGB& reflectance, const CoatLayer& layer)
+    : m_distrib(distrib), m_eta(eta), m_thickness(layer.thickness) {
     RGB r = reflectance;
-    RGB denom(1 - r.r * fdr, 1 - r.g * fdr, 1 - r.b * fdr);
-    m_base_scale = r / denom * (kInvPi / (eta * eta));
-    // Fraction of the light that enters the coat and eventually leaves it again.
-    m_base_weight = (r * (1 - fdr) / denom).average();
+    // sum_{k<n} (r A)^k per channel, in closed form.
+    auto series = [&](float ra) {
+        int n = layer.base_visits;
+        if (n <= 0) return 0.f;
+        if (std::abs(1 - ra) < 1e-6f) return float(n);
+        return (1 - std::pow(ra, float(n))) / (1 - ra);
+    };
+    float a = layer.round_trip;
+    RGB sum(series(r.r * a), series(r.g * a), series(r.b * a));
+    m_base_scale = r * sum * (kInvPi / (eta * eta));
+    // Fraction of the light that enters the coat and eventually leaves it again (roughly: the
+    // walk's own absorption on the way in and out is left out), for lobe selection only.
+    m_base_weight = (r * sum * (1 - a)).average();
 }
 
 uint8_t CoatedDiffuseBxdf::flags() const {
@@ -53,7 +66,15 @@ float CoatedDiffuseBxdf::coat_probability(float cos_o) const {
 }
 
 RGB CoatedDiffuseBxdf::eval_base(float cos_o, float cos_i) const {
-    return m_base_scale * ((1 - fr_dielectric(cos_i, m_eta)) * (1 - fr_dielectric(cos_o, m_eta)));
+    // Transmittance into (or out of) the coat along cos, times the layer's attenuation along the
+    // refracted direction.
+    auto through = [&](float cos) {
+        float t = 1 - fr_dielectric(cos, m_eta);
+        if (t <= 0 || m_thickness <= 0) return t;
+        float cos_t = safe_sqrt(1 - (1 - cos * cos) / (m_eta * m_eta));
+        return cos_t > 0 ? t * std::exp(-m_thickness / cos_t) : 0.f;
+    };
+    return m_base_scale * (through(cos_i) * through(cos_o));
 }
 
 float CoatedDiffuseBxdf::eval_coat(const Vec3& wo, const Vec3& wi) const {

@@ -143,11 +143,19 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
             return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), displacement);
         RGBParam reflectance = mp.get_rgb("reflectance", RGB(0.5f));
         RoughnessParams roughness = mp.roughness(0);
-        // The random-walk parameters of pbrt-v4's layered model have no effect on the analytic
-        // one; a non-zero medium albedo would need it, so it is refused rather than ignored.
-        mp.get_float("thickness", 0.01f);
+        // pbrt-v4's layer thickness (absorption along each pass) and random-walk depth limit
+        // change its expected value and are modelled; "nsamples" only changes its noise and
+        // "g" only matters in a scattering medium. A non-zero medium albedo would need the
+        // random walk, so it is refused rather than ignored.
+        FloatParam thickness = mp.get_float("thickness", 0.01f);
+        if (thickness.tex)
+            throw_input_error(loc_of(params, "thickness", loc),
+                              "coateddiffuse: a textured \"thickness\" is not supported");
+        if (!std::isfinite(thickness.value) || thickness.value < 0)
+            throw_input_error(loc_of(params, "thickness", loc),
+                              "coateddiffuse: \"thickness\" must be non-negative");
+        int maxdepth = params.get_int("maxdepth", 10);
         mp.get_float("g", 0);
-        params.get_int("maxdepth", 10);
         params.get_int("nsamples", 1);
         if (params.has("albedo")) {
             RGBParam albedo = mp.get_rgb("albedo", RGB(0));
@@ -156,7 +164,8 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
                                   "coateddiffuse: a non-zero \"albedo\" (scattering coat) is not "
                                   "supported");
         }
-        return std::make_unique<CoatedDiffuseMaterial>(reflectance, eta, roughness, displacement);
+        return std::make_unique<CoatedDiffuseMaterial>(reflectance, eta, roughness, thickness.value,
+                                                       maxdepth, displacement);
     }
     throw_input_error(loc, "unknown material type \"{}\"", type);
 }

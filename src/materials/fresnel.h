@@ -75,6 +75,23 @@ inline float fresnel_diffuse_internal(float eta) {
     return float(sum / kSteps);
 }
 
+// One round trip of diffusely reflected light inside pbrt-v4's coat layer of optical depth
+// `thickness` (its LayeredBxDF has sigma_t = 1): up through the layer, Fresnel-reflected at the
+// top from inside, down again, each pass attenuated by exp(-thickness / cos), averaged over the
+// cosine-weighted directions leaving the base:
+//   A = integral 2 mu F_int(mu) exp(-2 thickness / mu) dmu.
+// With thickness 0 this is fresnel_diffuse_internal(eta).
+inline float coat_internal_round_trip(float eta, float thickness) {
+    constexpr int kSteps = 2048;
+    double sum = 0;
+    for (int i = 0; i < kSteps; ++i) {
+        float cos2 = (i + 0.5f) / kSteps;
+        float mu = std::sqrt(cos2);
+        sum += fr_dielectric(-mu, eta) * std::exp(-2 * thickness / mu);
+    }
+    return float(sum / kSteps);
+}
+
 namespace bxdf_detail {
 
 // Cosine-weighted direction on the +z hemisphere (concentric disk mapping, then lifted).

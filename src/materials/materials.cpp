@@ -73,28 +73,33 @@ Bsdf DielectricMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& s
 }
 
 CoatedDiffuseMaterial::CoatedDiffuseMaterial(RGBParam reflectance, FloatParam eta,
-                                             RoughnessParams roughness,
+                                             RoughnessParams roughness, float thickness,
+                                             int maxdepth,
                                              std::shared_ptr<FloatTexture> displacement)
     : MaterialBase(std::move(displacement)),
       m_reflectance(std::move(reflectance)),
       m_eta(std::move(eta)),
-      m_roughness(std::move(roughness)) {
+      m_roughness(std::move(roughness)),
+      m_thickness(std::max(thickness, 0.f)),
+      m_base_visits(CoatLayer::visits_for_max_depth(maxdepth)) {
     if (!m_eta.tex) {
-        m_fdr_const = fresnel_diffuse_internal(m_eta.value == 0 ? 1.f : m_eta.value);
+        m_round_trip_const =
+            coat_internal_round_trip(m_eta.value == 0 ? 1.f : m_eta.value, m_thickness);
     } else {
-        m_fdr_table.reset(new float[kFdrTable]);
-        for (int i = 0; i < kFdrTable; ++i)
-            m_fdr_table[i] = fresnel_diffuse_internal(std::exp2(-2 + 4.f * i / (kFdrTable - 1)));
+        m_round_trip_table.reset(new float[kRoundTripTable]);
+        for (int i = 0; i < kRoundTripTable; ++i)
+            m_round_trip_table[i] = coat_internal_round_trip(
+                std::exp2(-2 + 4.f * i / (kRoundTripTable - 1)), m_thickness);
     }
 }
 
-float CoatedDiffuseMaterial::fdr(float eta) const {
-    if (!m_fdr_table) return m_fdr_const;
+float CoatedDiffuseMaterial::round_trip(float eta) const {
+    if (!m_round_trip_table) return m_round_trip_const;
     // Tabulated over log2(eta) in [-2, 2].
-    float x = std::clamp((std::log2(eta) + 2) / 4, 0.f, 1.f) * (kFdrTable - 1);
-    int i = std::min(int(x), kFdrTable - 2);
+    float x = std::clamp((std::log2(eta) + 2) / 4, 0.f, 1.f) * (kRoundTripTable - 1);
+    int i = std::min(int(x), kRoundTripTable - 2);
     float t = x - i;
-    return (1 - t) * m_fdr_table[i] + t * m_fdr_table[i + 1];
+    return (1 - t) * m_round_trip_table[i] + t * m_round_trip_table[i + 1];
 }
 
 Bsdf CoatedDiffuseMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
@@ -102,9 +107,10 @@ Bsdf CoatedDiffuseMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer
     float eta = m_eta.eval(ctx);
     if (eta == 0) eta = 1;
     RGB r = clamp01(m_reflectance.eval(ctx));
+    CoatLayer layer{m_thickness, round_trip(eta), m_base_visits};
     return Bsdf(
         frame(si), si.ng,
-        scratch_new<CoatedDiffuseBxdf>(scratch, m_roughness.distribution(ctx), eta, r, fdr(eta)));
+        scratch_new<CoatedDiffuseBxdf>(scratch, m_roughness.distribution(ctx), eta, r, layer));
 }
 
 }  // namespace ml

@@ -118,20 +118,25 @@ private:
 
 class CoatedDiffuseMaterial final : public MaterialBase {
 public:
+    // thickness, maxdepth: pbrt-v4's layer parameters (defaults 0.01 and 10); see CoatLayer.
     CoatedDiffuseMaterial(RGBParam reflectance, FloatParam eta, RoughnessParams roughness,
+                          float thickness, int maxdepth,
                           std::shared_ptr<FloatTexture> displacement);
     Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
     std::string type() const override { return "coateddiffuse"; }
 
 private:
-    float fdr(float eta) const;
+    float round_trip(float eta) const;
     RGBParam m_reflectance;
     FloatParam m_eta;
     RoughnessParams m_roughness;
-    // Fdr(eta) tabulated over eta in [1/4, 4] for textured eta; exact for a constant one.
-    static constexpr int kFdrTable = 256;
-    float m_fdr_const = 0;
-    std::unique_ptr<float[]> m_fdr_table;
+    float m_thickness;
+    int m_base_visits;
+    // coat_internal_round_trip(eta, thickness) tabulated over eta in [1/4, 4] for textured eta;
+    // exact for a constant one.
+    static constexpr int kRoundTripTable = 256;
+    float m_round_trip_const = 0;
+    std::unique_ptr<float[]> m_round_trip_table;
 };
 
 }  // namespace ml
