@@ -2,8 +2,12 @@
 // max_value_bound is at least eval * |cos| inside the cone, and a node's error bound is at least
 // the exact (unoccluded) contribution of its lights, over many random configurations.
 //
-// Tightness (printed by BoundNode.AtLeastExactContribution; Release, seed fixed): the median of
-// exact / bound over random nodes is reported in the test output as "median ratio".
+// Tightness (printed by BoundNode.AtLeastExactContribution; seed fixed): median of exact / bound
+// over random nodes of random trees, BSDFs and shading points, 0.385 for clusters and 0.998 for
+// single lights (about 10% of the nodes get +infinity: x inside a box, or rough glass whose cone
+// crosses the surface). BoundBxdf.AtLeastEvalTimesCosInCone prints the per-Bxdf median of
+// (largest of 64 sampled eval * cos) / bound: ~1.0 diffuse, 0.6-0.9 for alpha >= 0.3, lower for
+// sharp lobes, where 64 samples rarely hit the peak.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -178,7 +178,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     Clusters next;
     while (cl.size() > 1) {
         size_t m = cl.size();
-        costs.assign(m * r, kInfinity);
+        costs.resize(m * r);  // only the pairs inside [0, m) are written and read
         tbb::parallel_for(size_t(0), m, [&](size_t i) {
             for (size_t k = 0; k < r && i + 1 + k < m; ++k) costs[i * r + k] = cost(i, i + 1 + k);
         });
