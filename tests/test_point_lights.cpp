@@ -7,6 +7,8 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 
@@ -300,7 +302,7 @@ TEST(Vpl, DeterministicAndThreadIndependent) {
     auto scene = make_scene(mixed_box());
     auto build = [&](int threads, uint64_t seed) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-        return vpls_only(*scene, 30000, 5, seed);
+        return vpls_only(*scene, 15000, 5, seed);
     };
     PointLightSet a = build(1, 3), b = build(4, 3), c = build(2, 4);
     ASSERT_EQ(a.lights.size(), b.lights.size());
@@ -484,5 +486,24 @@ TEST(Vpl, InstantRadiosityConvergesToPathTracer) {
             if (prev_se > 0) EXPECT_LT(v.stderr_of_mean, prev_se) << set.vpls << " VPLs";
             prev_se = v.stderr_of_mean;
         }
+    }
+}
+
+// Timing on a real scene, run by hand:
+//   MANYLIGHT_VPL_SCENE=scene.pbrt manylight_tests --gtest_also_run_disabled_tests
+//     --gtest_filter='Vpl.DISABLED_BuildTiming'
+TEST(Vpl, DISABLED_BuildTiming) {
+    const char* path = std::getenv("MANYLIGHT_VPL_SCENE");
+    if (!path) GTEST_SKIP() << "set MANYLIGHT_VPL_SCENE";
+    Scene scene(parse_scene_file(path));
+    for (int count : {100000, 1000000}) {
+        PointLightOptions o;
+        o.vpl_count = count;
+        PointLightSet set = build_point_light_set(scene, o);
+        std::printf(
+            "%d VPLs target: %zu lights (%zu VPLs, %zu glossy surfaces, %zu omni, %zu "
+            "oriented, %zu directional) from %zu paths in %.2f s\n",
+            count, set.lights.size(), set.vpls, set.surfaces.size(), set.omni, set.oriented,
+            set.directional, set.light_paths, set.seconds);
     }
 }
