@@ -14,6 +14,7 @@ struct RenderArgs {
     long long seed = -1;
     double time_limit = 0;
     std::vector<std::string> set;
+    std::vector<std::string> aovs;
     bool quiet = false;
 };
 void add_render_command(CLI::App& app, RenderArgs& args);

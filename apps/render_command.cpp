@@ -35,6 +35,9 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
         ->check(CLI::PositiveNumber);
     r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)");
     r->add_option("--stats", a.stats, "write figures as JSON to this file");
+    r->add_option("--aov", a.aovs,
+                  "also write an extra image the integrator makes (lightcuts: cutsize) to "
+                  "OUT.NAME.exr (repeatable)");
     r->add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
 }
 
@@ -49,6 +52,8 @@ void parse_resolution(const std::string& s, RenderOptions& o) {
     o.width = w;
     o.height = h;
 }
+
+std::string f_name(const RenderOutput& out) { return out.figures.integrator; }
 
 }  // namespace
 
@@ -98,7 +103,19 @@ int run_render(const RenderArgs& a) {
     out.figures.seconds_load = load;
     struct rusage usage {};
     if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;
+    // Extra images next to the output, checked before anything is written.
+    std::vector<std::pair<std::string, const Image*>> aov_files;
+    for (const std::string& name : a.aovs) {
+        auto it = out.aovs.find(name);
+        if (it == out.aovs.end())
+            throw UsageError("--aov " + name + ": integrator \"" + f_name(out) +
+                             "\" makes no such image");
+        std::filesystem::path p(output);
+        aov_files.emplace_back((p.parent_path() / p.stem()).string() + "." + name + ".exr",
+                               &it->second);
+    }
     write_image(output, out.image);
+    for (auto& [file, img] : aov_files) write_image(file, *img);
 
     const RenderFigures& f = out.figures;
     if (!a.quiet)

@@ -435,7 +435,7 @@ Estimate path_irradiance(const Scene& scene, const SurfaceInteraction& si, const
             sampler->start_pixel_sample({i, 1}, 0);
             Vec3 w = f.to_world(sample_cosine_hemisphere(sampler->get_2d()));
             Ray ray = spawn_ray(si, w);
-            double v = path.li(ray, scene, *sampler, scratch).r;
+            double v = path.li(ray, scene, *sampler, scratch, Point2i{0, 0}).r;
             scratch.reset();
             SurfaceInteraction hit;
             if (scene.intersect(ray, &hit) && hit.area_light)

@@ -1,6 +1,7 @@
 // The integrator interface and the per-pixel driver most integrators share.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 
@@ -26,7 +27,10 @@ struct RenderContext {
 };
 
 struct RenderResult {
-    int spp = 0;  // samples per pixel actually taken
+    int spp = 0;                        // samples per pixel actually taken
+    size_t point_lights = 0, vpls = 0;  // many-light integrators: the point-light set
+    std::string extra_json;             // more --stats members, e.g. "\"lightcuts\": {...}"
+    std::map<std::string, Image> aovs;  // extra images by name (e.g. "cutsize")
 };
 
 class Integrator {
@@ -45,8 +49,8 @@ public:
     // Called once before rendering (after the scene is ready).
     virtual void prepare(const Scene& scene) {}
     // Radiance arriving along `ray`.
-    virtual RGB li(const Ray& ray, const Scene& scene, Sampler& sampler,
-                   ScratchBuffer& scratch) const = 0;
+    virtual RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+                   Point2i pixel) const = 0;
 };
 
 }  // namespace ml

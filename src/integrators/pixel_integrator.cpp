@@ -54,7 +54,7 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
                             cs.p_lens = sampler.get_2d();
                             Ray ray = ctx.camera.generate_ray(cs);
                             stats::count_camera_ray();
-                            RGB L = li(ray, ctx.scene, sampler, ts.scratch);
+                            RGB L = li(ray, ctx.scene, sampler, ts.scratch, pixel);
                             ctx.film.add_sample(pixel, L, fs.weight);
                             ts.scratch.reset();
                         }

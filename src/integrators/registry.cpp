@@ -1,7 +1,9 @@
 #include "integrators/registry.h"
 
 #include "integrators/direct/direct.h"
+#include "integrators/lightcuts/lightcuts.h"
 #include "integrators/path/path.h"
+#include "integrators/vpl/vpl.h"
 #include "integrators/whitted/whitted.h"
 
 namespace ml {
@@ -22,6 +24,10 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<DirectIntegrator>},
         {"whitted", "Whitted ray tracing: mirrors, glass and direct light",
          make<WhittedIntegrator>},
+        {"vpl", "instant radiosity: every point light and VPL summed with a shadow ray",
+         make<VplIntegrator>},
+        {"lightcuts", "Lightcuts: the vpl integrator's lights clustered, error-bounded cuts",
+         make<LightcutsIntegrator>},
     };
     return table;
 }

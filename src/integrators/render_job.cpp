@@ -140,6 +140,11 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     fig.lights = scene.lights().size();
     for (const auto& l : scene.lights())
         if (l->type() == LightType::DeltaPosition) ++fig.point_lights;
+    // Many-light integrators report the point-light set they shaded with instead.
+    if (result.point_lights > 0) fig.point_lights = result.point_lights;
+    fig.vpls = result.vpls;
+    fig.extra_json = result.extra_json;
+    out.aovs = std::move(result.aovs);
     return out;
 }
 
@@ -152,12 +157,12 @@ std::string RenderFigures::to_json() const {
         "{:.4f}, "
         "\"total\": {:.4f}}},\n \"rays\": {{\"camera\": {}, \"closest\": {}, \"shadow\": {}, "
         "\"total\": {}}}, \"rays_per_second\": {:.6g},\n \"scene\": {{\"triangles\": {}}}, "
-        "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": 0}},\n \"memory\": "
-        "{{\"peak_rss_mb\": {:.1f}}}}}\n",
+        "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": {}}},\n \"memory\": "
+        "{{\"peak_rss_mb\": {:.1f}}}{}}}\n",
         integrator, sampler, spp, width, height, threads, seconds_load, seconds_build,
         seconds_render, total_s, rays_camera, rays_closest, rays_shadow, total,
         seconds_render > 0 ? double(total) / seconds_render : 0.0, triangles, lights, point_lights,
-        peak_rss_mb);
+        vpls, peak_rss_mb, extra_json.empty() ? "" : ",\n " + extra_json);
 }
 
 }  // namespace ml

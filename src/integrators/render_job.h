@@ -32,7 +32,8 @@ struct RenderFigures {
     int spp = 0, width = 0, height = 0, threads = 0;
     double seconds_load = 0, seconds_build = 0, seconds_render = 0;
     uint64_t rays_camera = 0, rays_closest = 0, rays_shadow = 0;
-    size_t triangles = 0, lights = 0, point_lights = 0;
+    size_t triangles = 0, lights = 0, point_lights = 0, vpls = 0;
+    std::string extra_json;   // integrator-specific members of the --stats object
     std::string output_hint;  // the Film's "filename", if any
     double peak_rss_mb = 0;   // peak resident memory of the process, filled in by the caller
     std::vector<std::string> warnings;  // for the user: settings that were not honoured
@@ -41,6 +42,7 @@ struct RenderFigures {
 
 struct RenderOutput {
     Image image;
+    std::map<std::string, Image> aovs;  // extra images the integrator made, by name
     RenderFigures figures;
 };
 

@@ -1,6 +1,9 @@
 // An integrator's settings: the scene's `Integrator` parameters (pbrt-v4 names) overridden by
-// `--set NAME.KEY=VALUE` from the command line. Every setting must be read by the integrator,
-// or check_unused() reports it (scene parameters as input errors, --set keys as usage errors).
+// `--set NAME.KEY=VALUE` from the command line. A plain key ("maxdepth") is the integrator's own:
+// `--set path.maxdepth=...` or the scene's "maxdepth". A dotted key ("vpl.count") names a group
+// shared by several integrators (the VPL settings read by both `vpl` and `lightcuts`) and comes
+// from the command line only. Every setting must be read, or check_unused() reports it (scene
+// parameters as input errors, --set keys as usage errors).
 #pragma once
 
 #include <map>
@@ -11,7 +14,7 @@
 
 namespace ml {
 
-// A --set key the integrator does not know, or a value that does not parse.
+// A --set key nobody reads, or a value that does not parse.
 class UsageError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
@@ -26,13 +29,22 @@ public:
     float get_float(const std::string& key, float def) const;
     bool get_bool(const std::string& key, bool def) const;
     std::string get_string(const std::string& key, const std::string& def) const;
+    const std::string& integrator() const { return m_integrator; }
     void check_unused() const;
 
 private:
+    // The --set value for `key` (full name: "path.maxdepth", "vpl.count"), marked used.
     const std::string* override_for(const std::string& key) const;
+    std::string full_name(const std::string& key) const {
+        return key.find('.') == std::string::npos ? m_integrator + "." + key : key;
+    }
+    // The scene's parameters answer only the integrator's own (undotted) keys.
+    const ParameterList* scene_for(const std::string& key) const {
+        return key.find('.') == std::string::npos ? m_scene : nullptr;
+    }
     std::string m_integrator;
     const ParameterList* m_scene;                    // may be null
-    std::map<std::string, std::string> m_overrides;  // keys without the "name." prefix
+    std::map<std::string, std::string> m_overrides;  // full names
     mutable std::map<std::string, bool> m_used;
 };
 

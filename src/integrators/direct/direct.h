@@ -14,8 +14,8 @@ class DirectIntegrator final : public PixelIntegrator {
 public:
     explicit DirectIntegrator(const Settings& settings);
     std::string name() const override { return "direct"; }
-    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler,
-           ScratchBuffer& scratch) const override;
+    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+           Point2i pixel) const override;
 
 private:
     int m_max_depth;

@@ -22,7 +22,7 @@ void PathIntegrator::prepare(const Scene& scene) {
 }
 
 RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
-                       ScratchBuffer& scratch) const {
+                       ScratchBuffer& scratch, Point2i pixel) const {
     RGB L, beta(1.f);
     Ray ray = camera_ray;
     bool specular_bounce = false;

@@ -14,8 +14,8 @@ public:
     explicit PathIntegrator(const Settings& settings);
     std::string name() const override { return "path"; }
     void prepare(const Scene& scene) override;
-    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler,
-           ScratchBuffer& scratch) const override;
+    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+           Point2i pixel) const override;
 
 private:
     int m_max_depth;

@@ -11,7 +11,7 @@ WhittedIntegrator::WhittedIntegrator(const Settings& settings) {
 }
 
 RGB WhittedIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
-                          ScratchBuffer& scratch) const {
+                          ScratchBuffer& scratch, Point2i pixel) const {
     RGB L, beta(1.f);
     Ray ray = camera_ray;
     SurfaceInteraction si;

@@ -12,8 +12,8 @@ class WhittedIntegrator final : public PixelIntegrator {
 public:
     explicit WhittedIntegrator(const Settings& settings);
     std::string name() const override { return "whitted"; }
-    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler,
-           ScratchBuffer& scratch) const override;
+    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+           Point2i pixel) const override;
 
 private:
     int m_max_depth;

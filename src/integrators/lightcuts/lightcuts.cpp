@@ -1,0 +1,186 @@
+#include "integrators/lightcuts/lightcuts.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "manylight/bounds.h"
+#include "manylight/gather.h"
+
+namespace ml {
+
+LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
+    : m_settings(ManyLightSettings::read(settings)) {
+    m_error = settings.get_float("error", 0.02f);
+    m_max_cut = settings.get_int("max_cut", 1000);
+    std::string criterion = settings.get_string("criterion", "max");
+    if (criterion == "max")
+        m_criterion = Criterion::Max;
+    else if (criterion == "sum")
+        m_criterion = Criterion::Sum;
+    else if (criterion == "probable")
+        m_criterion = Criterion::Probable;
+    else
+        throw UsageError("lightcuts.criterion must be max, probable or sum, not " + criterion);
+    if (!(m_error >= 0) || m_max_cut < 1)
+        throw UsageError("lightcuts: error must be >= 0 and max_cut >= 1");
+}
+
+void LightcutsIntegrator::prepare(const Scene& scene) {
+    m_set = build_point_light_set(scene, m_settings.lights);
+    auto t0 = std::chrono::steady_clock::now();
+    LightTreeOptions opts;
+    opts.seed = m_settings.lights.seed;
+    opts.scene_diagonal = length(scene.bounds().diagonal());
+    m_tree = LightTree(m_set.lights, opts);
+    m_tree_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
+    m_width = ctx.film.width();
+    m_pixel_cut.assign(size_t(ctx.film.width()) * ctx.film.height(), 0.f);
+    m_pixel_samples.assign(m_pixel_cut.size(), 0);
+    m_cut_sum = 0;
+    m_gather_points = 0;
+    m_cut_max = 0;
+    RenderResult r = PixelIntegrator::render(ctx);
+    r.point_lights = m_set.lights.size();
+    r.vpls = m_set.vpls;
+    uint64_t n = m_gather_points.load();
+    double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
+    r.extra_json = fmt::format(
+        "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"max_cut\": {}, \"avg_cut_size\": "
+        "{:.2f}, "
+        "\"max_cut_size\": {}, \"gather_points\": {}, \"tree_build_seconds\": {:.4f}, "
+        "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
+        "\"light_paths\": {}}}",
+        m_error, criterion_name(), m_max_cut, avg, m_cut_max.load(), n, m_tree_seconds,
+        m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.light_paths);
+    // The cut-size heat map: the mean cut size of each pixel's gather points.
+    Image cut(ctx.film.width(), ctx.film.height());
+    for (size_t i = 0; i < m_pixel_cut.size(); ++i)
+        cut.pixels[i] = RGB(m_pixel_samples[i] ? m_pixel_cut[i] / m_pixel_samples[i] : 0.f);
+    r.aovs["cutsize"] = std::move(cut);
+    return r;
+}
+
+RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
+                            ScratchBuffer& scratch, Point2i pixel) const {
+    RGB L;
+    auto g = trace_to_gather_point(scene, ray, sampler, scratch, m_settings.max_depth, &L);
+    if (!g) return L;
+    int cut_size = 0;
+    L += shade(scene, *g, &cut_size);
+    m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
+    m_gather_points.fetch_add(1, std::memory_order_relaxed);
+    int prev = m_cut_max.load(std::memory_order_relaxed);
+    while (cut_size > prev && !m_cut_max.compare_exchange_weak(prev, cut_size)) {
+    }
+    size_t i = size_t(pixel.y) * m_width + pixel.x;
+    if (i < m_pixel_cut.size()) {
+        m_pixel_cut[i] += float(cut_size);
+        ++m_pixel_samples[i];
+    }
+    return L;
+}
+
+namespace {
+
+struct CutEntry {
+    int32_t node;
+    float bound;    // luminance of the error bound (infinite: must be split)
+    RGB estimate;   // the node's estimate
+    RGB rep_value;  // the representative's own contribution, visibility included
+};
+
+bool operator<(const CutEntry& a, const CutEntry& b) { return a.bound < b.bound; }
+
+}  // namespace
+
+RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cut_size) const {
+    const Vec3& x = g.si.p;
+    const Vec3& wo = g.si.wo;
+    // The representative's contribution: exact, with its shadow ray (and VPL clamping).
+    auto light_value = [&](int32_t light) {
+        const PointLight& pl = m_set.lights[size_t(light)];
+        RGB c;
+        Ray shadow;
+        if (!point_light_contribution(m_set, pl, g, &c, &shadow)) return RGB();
+        if (m_settings.clamp > 0 && pl.is_vpl)
+            c = RGB(std::min(c.r, m_settings.clamp), std::min(c.g, m_settings.clamp),
+                    std::min(c.b, m_settings.clamp));
+        return scene.occluded(shadow) ? RGB() : c;
+    };
+    // A node stands for its cluster: the representative's value scaled, channel by channel, by
+    // the cluster's intensity over the representative's (by luminance where the representative
+    // has none in a channel).
+    auto make_entry = [&](int32_t index, const RGB& rep_value) {
+        const LightTreeNode& n = m_tree.node(index);
+        CutEntry e{index, 0.f, RGB(), rep_value};
+        if (n.is_leaf()) {
+            e.estimate = rep_value;  // exact
+            return e;
+        }
+        const RGB& I_rep = m_set.lights[size_t(n.light)].intensity;
+        float lum_ratio = I_rep.luminance() > 0 ? n.intensity.luminance() / I_rep.luminance() : 0;
+        for (int c = 0; c < 3; ++c)
+            e.estimate[c] = rep_value[c] * (I_rep[c] > 0 ? n.intensity[c] / I_rep[c] : lum_ratio);
+        e.bound = (g.beta * node_error_bound(n, x, g.bsdf, wo)).luminance();
+        if (std::isnan(e.bound)) e.bound = kInfinity;
+        return e;
+    };
+
+    thread_local std::vector<CutEntry> heap;
+    heap.clear();
+    RGB total;
+    // Over the clustered (non-leaf) nodes of the cut: the sum of their bounds and of their
+    // squares.
+    float bound_sum = 0, bound_sq = 0;
+    for (PointLightKind kind :
+         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+        int32_t root = m_tree.root(kind);
+        if (root < 0) continue;
+        CutEntry e = make_entry(root, light_value(m_tree.node(root).light));
+        total += e.estimate;
+        bound_sum += e.bound;
+        bound_sq += e.bound * e.bound;
+        heap.push_back(e);
+        std::push_heap(heap.begin(), heap.end());
+    }
+    // Refine the worst node until every bound is within the error of the estimate.
+    while (!heap.empty() && int(heap.size()) < m_max_cut) {
+        const CutEntry& top = heap.front();
+        float tolerance = m_error * total.luminance();
+        if (top.bound <= 0.f) break;
+        if (m_criterion == Criterion::Max && top.bound <= tolerance) break;
+        if (m_criterion == Criterion::Sum && bound_sum <= tolerance) break;
+        // Hoeffding: independent zero-mean errors bounded by b_i exceed t with probability
+        // at most 2 exp(-t^2 / (2 sum b_i^2)); 3.26 sqrt(sum b_i^2) makes that 1%.
+        if (m_criterion == Criterion::Probable && 3.26f * std::sqrt(bound_sq) <= tolerance) break;
+        std::pop_heap(heap.begin(), heap.end());
+        CutEntry e = heap.back();
+        heap.pop_back();
+        total = total - e.estimate;
+        bound_sum -= e.bound;
+        bound_sq -= e.bound * e.bound;
+        const LightTreeNode& n = m_tree.node(e.node);
+        for (int32_t child : n.children) {
+            // A child whose representative is the parent's reuses its shadow ray.
+            int32_t rep = m_tree.node(child).light;
+            CutEntry c = make_entry(child, rep == n.light ? e.rep_value : light_value(rep));
+            total += c.estimate;
+            bound_sum += c.bound;
+            bound_sq += c.bound * c.bound;
+            heap.push_back(c);
+            std::push_heap(heap.begin(), heap.end());
+        }
+    }
+    *cut_size = int(heap.size());
+    // Sum the cut afresh: the running total drifts by float cancellation.
+    RGB L;
+    for (const CutEntry& e : heap) L += e.estimate;
+    return L;
+}
+
+}  // namespace ml

@@ -1,0 +1,60 @@
+// Lightcuts (Walter et al. 2005, seed 004): the same point lights as `vpl`, clustered in a light
+// tree; at each gather point a cut through the tree is refined, always splitting the node with
+// the largest error bound, until every node's bound is below `lightcuts.error` (default 2%) of
+// the current estimate or the cut holds `lightcuts.max_cut` nodes. A node is shaded by its
+// representative light alone (one shadow ray) and stands for the whole cluster's intensity.
+//
+// `lightcuts.criterion` says when a cut is fine enough:
+// - "max" (default): Walter et al.'s test, every node's bound below the error times the estimate.
+//   Each node's error is then small, but a cut of many nodes can add up to more.
+// - "probable": the representatives are chosen at random in proportion to intensity, so each
+//   node's error is zero-mean, independent of the other nodes' and within +-its bound; refining
+//   until 3.26 sqrt(sum of bounds^2) is below the error bounds the whole estimate's error by it
+//   with probability >= 99% (Hoeffding's inequality).
+// - "sum": the sum of the bounds below the error: a certain bound, at the price of large cuts.
+#pragma once
+
+#include <atomic>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "integrators/settings.h"
+#include "integrators/vpl/vpl.h"
+#include "manylight/gather.h"
+#include "manylight/light_tree.h"
+
+namespace ml {
+
+class LightcutsIntegrator final : public PixelIntegrator {
+public:
+    explicit LightcutsIntegrator(const Settings& settings);
+    std::string name() const override { return "lightcuts"; }
+    void prepare(const Scene& scene) override;
+    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+           Point2i pixel) const override;
+    RenderResult render(const RenderContext& ctx) override;
+
+private:
+    // The cut at one gather point: its radiance; *cut_size receives the number of nodes.
+    RGB shade(const Scene& scene, const GatherPoint& g, int* cut_size) const;
+
+    ManyLightSettings m_settings;
+    float m_error = 0.02f;
+    enum class Criterion { Max, Probable, Sum } m_criterion = Criterion::Max;
+    const char* criterion_name() const {
+        return m_criterion == Criterion::Max ? "max"
+                                             : (m_criterion == Criterion::Sum ? "sum" : "probable");
+    }
+    int m_max_cut = 1000;
+    PointLightSet m_set;
+    LightTree m_tree;
+    double m_tree_seconds = 0;
+    // Figures: cut sizes summed over gather points, the largest cut, and per pixel.
+    mutable std::atomic<uint64_t> m_cut_sum{0}, m_gather_points{0};
+    mutable std::atomic<int> m_cut_max{0};
+    mutable std::vector<float> m_pixel_cut;  // each pixel is written by one thread only
+    mutable std::vector<uint32_t> m_pixel_samples;
+    int m_width = 0;
+};
+
+}  // namespace ml

@@ -1,0 +1,58 @@
+#include "integrators/vpl/vpl.h"
+
+#include "manylight/gather.h"
+
+namespace ml {
+
+ManyLightSettings ManyLightSettings::read(const Settings& s) {
+    ManyLightSettings m;
+    m.max_depth = s.get_int("maxdepth", 5);
+    m.lights.vpl_count = s.get_int("vpl.count", m.lights.vpl_count);
+    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", m.lights.vpl_max_depth);
+    std::string glossy = s.get_string("vpl.glossy", "bsdf");
+    if (glossy != "bsdf" && glossy != "skip")
+        throw UsageError("vpl.glossy must be bsdf or skip, not " + glossy);
+    m.lights.vpl_glossy = glossy == "bsdf";
+    m.lights.vpls = m.lights.vpl_count > 0;
+    m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count);
+    m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
+    m.lights.seed = uint64_t(s.get_int("vpl.seed", 0));
+    m.clamp = s.get_float("vpl.clamp", 0.f);
+    if (m.max_depth < 0 || m.lights.vpl_count < 0 || m.lights.vpl_max_depth < 1 ||
+        m.lights.area_count < 1 || m.lights.env_count < 1 || m.clamp < 0)
+        throw UsageError("vpl settings out of range (counts >= 1, vpl.max_depth >= 1, clamp >= 0)");
+    return m;
+}
+
+VplIntegrator::VplIntegrator(const Settings& settings)
+    : m_settings(ManyLightSettings::read(settings)) {}
+
+void VplIntegrator::prepare(const Scene& scene) {
+    m_set = build_point_light_set(scene, m_settings.lights);
+}
+
+RenderResult VplIntegrator::render(const RenderContext& ctx) {
+    RenderResult r = PixelIntegrator::render(ctx);
+    r.point_lights = m_set.lights.size();
+    r.vpls = m_set.vpls;
+    return r;
+}
+
+RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+                      Point2i pixel) const {
+    RGB L;
+    auto g = trace_to_gather_point(scene, ray, sampler, scratch, m_settings.max_depth, &L);
+    if (!g) return L;
+    for (const PointLight& pl : m_set.lights) {
+        RGB c;
+        Ray shadow;
+        if (!point_light_contribution(m_set, pl, *g, &c, &shadow)) continue;
+        if (m_settings.clamp > 0 && pl.is_vpl)
+            c = RGB(std::min(c.r, m_settings.clamp), std::min(c.g, m_settings.clamp),
+                    std::min(c.b, m_settings.clamp));
+        if (!scene.occluded(shadow)) L += c;
+    }
+    return L;
+}
+
+}  // namespace ml

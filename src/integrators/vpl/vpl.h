@@ -1,0 +1,34 @@
+// Instant radiosity, brute force: every point light (the scene's lights turned into point lights,
+// plus the VPLs that light paths deposit) shades every gather point with a shadow ray each. It is
+// O(lights) per pixel: the exact reference Lightcuts is measured against on the same set.
+#pragma once
+
+#include "integrators/integrator.h"
+#include "integrators/settings.h"
+#include "manylight/point_light_set.h"
+
+namespace ml {
+
+// The settings both `vpl` and `lightcuts` read: the point-light set and clamping.
+struct ManyLightSettings {
+    PointLightOptions lights;
+    float clamp = 0;    // > 0: no VPL contributes more than this radiance (per channel)
+    int max_depth = 5;  // delta bounces followed from the camera before gathering
+    static ManyLightSettings read(const Settings& s);
+};
+
+class VplIntegrator final : public PixelIntegrator {
+public:
+    explicit VplIntegrator(const Settings& settings);
+    std::string name() const override { return "vpl"; }
+    void prepare(const Scene& scene) override;
+    RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+           Point2i pixel) const override;
+    RenderResult render(const RenderContext& ctx) override;
+
+private:
+    ManyLightSettings m_settings;
+    PointLightSet m_set;
+};
+
+}  // namespace ml

@@ -1,0 +1,107 @@
+// Lightcuts against the exact sum (DESIGN.md section 4): on the same point-light set, every
+// pixel's lightcut estimate is within the chosen relative error of the brute-force `vpl` image in
+// at least 99% of pixels. The bound is conservative; the percentiles reached are printed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "render_helpers.h"
+#include "scene/default_scene.h"
+
+using namespace ml;
+
+namespace {
+
+struct CutOptions {
+    float error = 0.02f;
+    std::string criterion = "max";
+    int max_cut = 1000;
+};
+
+RenderOutput render_many(const std::string& integrator, SceneDesc desc, int vpls, int res,
+                         const CutOptions& cut) {
+    RenderOptions opt;
+    opt.integrator = integrator;
+    opt.spp = 2;
+    opt.width = res;
+    opt.height = res;
+    opt.seed = 5;
+    opt.progress = false;
+    opt.set["vpl.count"] = std::to_string(vpls);
+    opt.set["lights.area_count"] = "256";
+    if (integrator == "lightcuts") {
+        opt.set["lightcuts.error"] = std::to_string(cut.error);
+        opt.set["lightcuts.criterion"] = cut.criterion;
+        opt.set["lightcuts.max_cut"] = std::to_string(cut.max_cut);
+    }
+    return render_scene(std::move(desc), opt);
+}
+
+struct ErrorFigures {
+    std::vector<double> rel;  // per pixel, sorted: |lightcuts - exact| / exact (luminance)
+    double mean_rel = 0;      // of the image means
+    double avg_cut = 0;
+    double percentile(double p) const { return rel[size_t(p * (rel.size() - 1))]; }
+    double fraction_within(double e) const {
+        return double(std::count_if(rel.begin(), rel.end(), [&](double r) { return r <= e; })) /
+               double(rel.size());
+    }
+};
+
+template <typename Load>
+ErrorFigures compare_with_exact(Load load, int vpls, int res, const CutOptions& cut) {
+    RenderOutput exact = render_many("vpl", load(), vpls, res, cut);
+    RenderOutput lc = render_many("lightcuts", load(), vpls, res, cut);
+    EXPECT_EQ(exact.figures.point_lights, lc.figures.point_lights);
+    ErrorFigures f;
+    double se = 0, sc = 0;
+    for (size_t i = 0; i < exact.image.pixels.size(); ++i) {
+        double e = exact.image.pixels[i].luminance(), c = lc.image.pixels[i].luminance();
+        f.rel.push_back(std::abs(c - e) / std::max(e, 1e-6));
+        se += e;
+        sc += c;
+    }
+    std::sort(f.rel.begin(), f.rel.end());
+    f.mean_rel = (sc - se) / se;
+    size_t pos = lc.figures.extra_json.find("avg_cut_size\": ");
+    if (pos != std::string::npos) f.avg_cut = std::atof(lc.figures.extra_json.c_str() + pos + 15);
+    std::printf(
+        "lights %zu (vpls %zu), %s error %.3f: per-pixel relative error p50 %.4f p90 %.4f "
+        "p99 %.4f max %.4f; %.1f%% of pixels within the error; image mean %+.3f%%; "
+        "average cut %.1f\n",
+        exact.figures.point_lights, exact.figures.vpls, cut.criterion.c_str(), cut.error,
+        f.percentile(0.5), f.percentile(0.9), f.percentile(0.99), f.rel.back(),
+        100 * f.fraction_within(cut.error), 100 * f.mean_rel, f.avg_cut);
+    return f;
+}
+
+SceneDesc cornell() { return parse_scene_string(default_scene_text(), "."); }
+SceneDesc cornell_4096() {
+    return parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) +
+                            "/scenes/cornell-box/scene-pointlights-4096.pbrt");
+}
+
+}  // namespace
+
+// Walter et al.'s criterion bounds each node's error by the threshold, not the cut's total:
+// the typical pixel is within it, the image mean is close, and the cut converges to the exact
+// sum as the threshold shrinks.
+TEST(Lightcuts, MaxCriterionConvergesToTheExactSum) {
+    for (auto load : {cornell, cornell_4096}) {
+        ErrorFigures coarse = compare_with_exact(load, 2000, 24, {0.02f});
+        EXPECT_LE(coarse.percentile(0.5), 0.02);
+        EXPECT_LT(std::abs(coarse.mean_rel), 0.01);
+        ErrorFigures fine = compare_with_exact(load, 2000, 24, {0.002f});
+        EXPECT_GE(fine.fraction_within(0.01), 0.99);
+        EXPECT_LT(fine.percentile(0.99), coarse.percentile(0.99));
+    }
+}
+
+// With the "sum" criterion (and no cap on the cut) each gather point's error is bounded by the
+// threshold for certain: every pixel is within it.
+TEST(Lightcuts, SumCriterionBoundsEveryPixel) {
+    for (auto load : {cornell, cornell_4096}) {
+        ErrorFigures f = compare_with_exact(load, 1000, 16, {0.02f, "sum", 1 << 20});
+        EXPECT_GE(f.fraction_within(0.02 * 1.001), 0.999);
+    }
+}
