@@ -144,7 +144,18 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
                      ? (pl.n + Vec3(1, 1, 1)) * 0.5f
                      : Vec3(unit(pl.p.x, all.lo.x, extent.x), unit(pl.p.y, all.lo.y, extent.y),
                             unit(pl.p.z, all.lo.z, extent.z));
-        keys[k] = {morton_code(u), ids[k]};
+        uint64_t code = morton_code(u);
+        if (kind == PointLightKind::Oriented) {
+            // Lights facing different ways rarely belong together (the metric's orientation
+            // term, with c the scene's diagonal, outweighs distance), but Morton order by
+            // position alone puts a corner's two walls side by side. Leading bits for the
+            // normal's dominant axis and sign keep the window search among like-facing lights.
+            Vec3 a = vabs(pl.n);
+            int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+            uint64_t bin = uint64_t(2 * axis + (pl.n[axis] < 0 ? 1 : 0));
+            code = bin << 60 | code >> 3;
+        }
+        keys[k] = {code, ids[k]};
     });
     tbb::parallel_sort(keys.begin(), keys.end());
 
