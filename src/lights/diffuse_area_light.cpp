@@ -3,8 +3,8 @@
 // everywhere and pdf_li needs only the hit point and its normal.
 #include "lights/lights.h"
 #include "manylight/point_light_set.h"
-#include "sampling/sampler.h"
 #include "sampling/distributions.h"
+#include "sampling/sampler.h"
 #include "sampling/warps.h"
 
 namespace ml {

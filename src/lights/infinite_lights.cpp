@@ -4,8 +4,8 @@
 // proportional to the sampled function within each pixel.
 #include "lights/lights.h"
 #include "manylight/point_light_set.h"
-#include "sampling/sampler.h"
 #include "sampling/distributions.h"
+#include "sampling/sampler.h"
 #include "sampling/warps.h"
 
 namespace ml {

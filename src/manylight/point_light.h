@@ -50,10 +50,10 @@ struct PointLightSet {
     std::vector<PointLight> lights;  // emitters' point lights first, then the VPLs
     std::vector<VplSurface> surfaces;
     std::vector<std::unique_ptr<ScratchBuffer>> arenas;  // the VPL surfaces' Bxdfs live here
-    size_t omni = 0, oriented = 0, directional = 0;    // counts by kind
-    size_t vpls = 0;                                   // how many of the lights are VPLs
-    size_t light_paths = 0;                            // light paths traced for the VPLs
-    double seconds = 0;                                // time to build the set
+    size_t omni = 0, oriented = 0, directional = 0;      // counts by kind
+    size_t vpls = 0;                                     // how many of the lights are VPLs
+    size_t light_paths = 0;                              // light paths traced for the VPLs
+    double seconds = 0;                                  // time to build the set
 };
 
 // Intensity of `pl` leaving towards unit direction `w` (from the light; ignored for

@@ -107,9 +107,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
         RGB c;
         Ray shadow;
         if (!point_light_contribution(m_set, pl, g, &c, &shadow)) return RGB();
-        if (m_settings.clamp > 0 && pl.is_vpl)
-            c = RGB(std::min(c.r, m_settings.clamp), std::min(c.g, m_settings.clamp),
-                    std::min(c.b, m_settings.clamp));
+        c = m_settings.clamped(c, pl.is_vpl);
         return scene.occluded(shadow) ? RGB() : c;
     };
     // A node stands for its cluster: the representative's value scaled, channel by channel, by

@@ -47,9 +47,7 @@ RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, Scra
         RGB c;
         Ray shadow;
         if (!point_light_contribution(m_set, pl, *g, &c, &shadow)) continue;
-        if (m_settings.clamp > 0 && pl.is_vpl)
-            c = RGB(std::min(c.r, m_settings.clamp), std::min(c.g, m_settings.clamp),
-                    std::min(c.b, m_settings.clamp));
+        c = m_settings.clamped(c, pl.is_vpl);
         if (!scene.occluded(shadow)) L += c;
     }
     return L;

@@ -15,6 +15,11 @@ struct ManyLightSettings {
     float clamp = 0;    // > 0: no VPL contributes more than this radiance (per channel)
     int max_depth = 5;  // delta bounces followed from the camera before gathering
     static ManyLightSettings read(const Settings& s);
+    // A point light's contribution after clamping (VPLs only; the emitters' lights are exact).
+    RGB clamped(const RGB& c, bool is_vpl) const {
+        if (clamp <= 0 || !is_vpl) return c;
+        return RGB(std::min(c.r, clamp), std::min(c.g, clamp), std::min(c.b, clamp));
+    }
 };
 
 class VplIntegrator final : public PixelIntegrator {
