@@ -11,34 +11,59 @@ float min_distance_squared(const Bounds3& b, const Vec3& x) {
     return length_squared(d) * (1 - 1e-6f);
 }
 
-// The smallest angle between the unit `axis` and p - x over the points p of the box (Walter et
-// al.'s bound: the box's corners relative to x, in a frame whose z is the axis, bound every
-// point's height z <= z_max and distance from the axis r >= r_min, so the angle is at least
+// The smallest angle between the unit `axis` and p - x over the points p of the box, as its
+// cosine and sine (Walter et al.'s bound: in a frame whose z is the axis, every point of the box
+// has height z <= z_max and distance from the axis r >= r_min, so the angle is at least
 // atan2(r_min, z_max)). Unlike a bounding cone it stays tight for flat boxes seen edge-on, such as
-// the point lights of an area light seen from the ceiling around it.
-float min_angle_to_box(const Vec3& axis, const Bounds3& b, const Vec3& x) {
-    Frame f = Frame::from_z(axis);
-    Bounds3 local;
-    for (int i = 0; i < 8; ++i) {
-        Vec3 c((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
-        local.expand(f.to_local(c - x));
-    }
+// the point lights of an area light seen from the ceiling around it. The ranges of the three
+// frame coordinates over the box come from its extents, coordinate by coordinate (they are
+// linear in p), with no corner loop and no trigonometry.
+struct AngleCS {
+    float cos, sin;
+};
+AngleCS min_angle_to_box(const Vec3& axis, const Bounds3& b, const Vec3& x) {
+    Vec3 s, t;
+    coordinate_system(axis, &s, &t);
+    Vec3 lo = b.lo - x, hi = b.hi - x;
+    auto range = [&](const Vec3& a, float* mn, float* mx) {
+        *mn = *mx = 0;
+        for (int i = 0; i < 3; ++i) {
+            float u = a[i] * lo[i], v = a[i] * hi[i];
+            *mn += std::min(u, v);
+            *mx += std::max(u, v);
+        }
+    };
+    float s_lo, s_hi, t_lo, t_hi, z_lo, z_hi;
+    range(s, &s_lo, &s_hi);
+    range(t, &t_lo, &t_hi);
+    range(axis, &z_lo, &z_hi);
     // In front of the axis's plane (z_max > 0) the angle grows with r, so the nearest r bounds
     // it; behind it the angle shrinks as r grows, so the farthest r does.
-    float r;
-    if (local.hi.z > 0) {
-        auto nearest = [](float lo, float hi) {
-            return (lo <= 0 && hi >= 0) ? 0.f : std::min(std::abs(lo), std::abs(hi));
+    float rs, rt;
+    if (z_hi > 0) {
+        auto nearest = [](float l, float h) {
+            return (l <= 0 && h >= 0) ? 0.f : std::min(std::abs(l), std::abs(h));
         };
-        float rx = nearest(local.lo.x, local.hi.x), ry = nearest(local.lo.y, local.hi.y);
-        r = std::sqrt(rx * rx + ry * ry);
+        rs = nearest(s_lo, s_hi), rt = nearest(t_lo, t_hi);
     } else {
-        float rx = std::max(std::abs(local.lo.x), std::abs(local.hi.x));
-        float ry = std::max(std::abs(local.lo.y), std::abs(local.hi.y));
-        r = std::sqrt(rx * rx + ry * ry);
+        rs = std::max(std::abs(s_lo), std::abs(s_hi)), rt = std::max(std::abs(t_lo), std::abs(t_hi));
     }
-    // Less a small angle, so float rounding in the frame never makes the bound too small.
-    return std::max(0.f, std::atan2(r, local.hi.z) - 2e-3f);
+    float r = std::sqrt(rs * rs + rt * rt);
+    float len = std::sqrt(r * r + z_hi * z_hi);
+    if (!(len > 0)) return {1, 0};
+    float c = z_hi / len, sn = r / len;
+    // Less a small angle (2e-3 rad), so float rounding never makes the bound too small.
+    constexpr float kCosEps = 0.999998f, kSinEps = 0.002f;
+    if (sn <= kSinEps && c > 0) return {1, 0};
+    return {c * kCosEps + sn * kSinEps, sn * kCosEps - c * kSinEps};
+}
+
+// cos(max(0, a - b)) for angles given by cosines and sines (a from the box, b a cone's half
+// angle), or 0 when a - b reaches a right angle.
+float cos_of_difference(AngleCS a, float cos_b) {
+    if (a.cos >= cos_b) return 1;  // a <= b
+    float sin_b = std::sqrt(std::max(0.f, 1 - cos_b * cos_b));
+    return std::max(0.f, a.cos * cos_b + a.sin * sin_b);
 }
 
 }  // namespace
@@ -53,15 +78,9 @@ float geometric_bound(const LightTreeNode& node, const Vec3& x) {
     // of the box to x. Those directions lie in the reversed cone subtended by the box at x, so
     // the angle is at least angle(axis, x - c) - theta_normals - theta_box.
     if (node.cone.is_entire_sphere()) return falloff;
-    // Two lower bounds of the angle between the cone's axis and x - p: through the cone the box
-    // subtends, and through the box itself; the larger holds.
-    float theta = min_angle_to_box(-node.cone.axis, node.bounds, x);
-    DirectionCone to_box = bound_subtended_directions(node.bounds, x);
-    if (!to_box.is_entire_sphere())
-        theta = std::max(theta, angle_between(node.cone.axis, -to_box.axis) - cone_angle(to_box));
-    theta -= cone_angle(node.cone);
-    if (theta >= kPi / 2) return 0;
-    return std::cos(std::max(0.f, theta)) * falloff;
+    // The angle between the cone's axis and x - p, less the cone's half-angle.
+    return cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x), node.cone.cos_theta) *
+           falloff;
 }
 
 DirectionCone node_direction_cone(const LightTreeNode& node, const Vec3& x) {
@@ -70,17 +89,14 @@ DirectionCone node_direction_cone(const LightTreeNode& node, const Vec3& x) {
 }
 
 RGB material_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo) {
-    RGB m = bsdf.max_value_bound(wo, node_direction_cone(node, x));
     // A Lambertian reflector: f is a constant on wo's side, so the bound is f times the largest
-    // cosine towards the box, which the box itself bounds more tightly than its cone.
+    // cosine towards the box, which the box itself bounds (more tightly than its cone does).
     if (node.kind != PointLightKind::Directional && bsdf.flags() == kBxdfDiffuseReflection) {
         Vec3 n = face_forward(bsdf.frame().n, wo);
-        float theta = min_angle_to_box(n, node.bounds, x);
-        float cos_max = theta >= kPi / 2 ? 0.f : std::cos(theta);
-        RGB f = bsdf.eval(wo, n);
-        for (int c = 0; c < 3; ++c) m[c] = std::min(m[c], f[c] * cos_max);
+        float cos_max = std::max(0.f, min_angle_to_box(n, node.bounds, x).cos);
+        return cos_max > 0 ? bsdf.eval(wo, n) * cos_max : RGB();
     }
-    return m;
+    return bsdf.max_value_bound(wo, node_direction_cone(node, x));
 }
 
 RGB node_error_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo) {
