@@ -10,6 +10,7 @@
 #include "core/rng.h"
 #include "materials/bxdfs.h"
 #include "materials/fresnel.h"
+#include "sampling/warps.h"
 
 using namespace ml;
 
@@ -88,7 +89,7 @@ int total_chi2_tests() {
 TEST(Chi2, DetectsAWrongPdf) {
     // Cosine-distributed samples tested against the uniform hemisphere density must fail.
     auto sampler = [](Rng& rng) -> std::optional<Vec3> {
-        return bxdf_detail::sample_cosine_hemisphere(Vec2(rng.next_float(), rng.next_float()));
+        return sample_cosine_hemisphere(Vec2(rng.next_float(), rng.next_float()));
     };
     auto right = chi2::test(sampler, [](const Vec3& w) { return w.z > 0 ? w.z * kInvPi : 0.f; });
     EXPECT_GT(right.p_value, 0.001) << right.message;

@@ -46,7 +46,8 @@ AngleCS min_angle_to_box(const Vec3& axis, const Bounds3& b, const Vec3& x) {
         };
         rs = nearest(s_lo, s_hi), rt = nearest(t_lo, t_hi);
     } else {
-        rs = std::max(std::abs(s_lo), std::abs(s_hi)), rt = std::max(std::abs(t_lo), std::abs(t_hi));
+        rs = std::max(std::abs(s_lo), std::abs(s_hi)),
+        rt = std::max(std::abs(t_lo), std::abs(t_hi));
     }
     float r = std::sqrt(rs * rs + rt * rt);
     float len = std::sqrt(r * r + z_hi * z_hi);
@@ -79,7 +80,8 @@ float geometric_bound(const LightTreeNode& node, const Vec3& x) {
     // the angle is at least angle(axis, x - c) - theta_normals - theta_box.
     if (node.cone.is_entire_sphere()) return falloff;
     // The angle between the cone's axis and x - p, less the cone's half-angle.
-    return cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x), node.cone.cos_theta) *
+    return cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
+                             node.cone.cos_theta) *
            falloff;
 }
 

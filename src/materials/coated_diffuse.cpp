@@ -27,11 +27,9 @@
 // Like pbrt-v4's, the material is two-sided: seen from -z it is mirrored through the surface.
 #include "materials/bxdfs.h"
 #include "materials/fresnel.h"
+#include "sampling/warps.h"
 
 namespace ml {
-
-using bxdf_detail::cosine_hemisphere_pdf;
-using bxdf_detail::sample_cosine_hemisphere;
 
 CoatedDiffuseBxdf::CoatedDiffuseBxdf(const TrowbridgeReitz& distrib, float eta,
                                      const RGB& reflectance, const CoatLayer& layer)
@@ -131,7 +129,7 @@ std::optional<BsdfSample> CoatedDiffuseBxdf::sample(const Vec3& wo_in, float uc,
     // Both lobes of the mixture can produce any non-delta direction: value and density are the
     // whole BSDF's.
     s.f = eval_base(wo.z, wi.z) + RGB(eval_coat(wo, wi));
-    s.pdf_solid_angle = (1 - p_coat) * cosine_hemisphere_pdf(wi.z) + p_coat * pdf_coat(wo, wi);
+    s.pdf_solid_angle = (1 - p_coat) * pdf_cosine_hemisphere(wi.z) + p_coat * pdf_coat(wo, wi);
     s.wi = Vec3(wi.x, wi.y, wi.z * sign);
     if (!(s.pdf_solid_angle > 0)) return std::nullopt;
     return s;
@@ -143,7 +141,7 @@ float CoatedDiffuseBxdf::pdf_solid_angle(const Vec3& wo_in, const Vec3& wi_in,
     float sign = wo_in.z < 0 ? -1.f : 1.f;
     Vec3 wo(wo_in.x, wo_in.y, wo_in.z * sign), wi(wi_in.x, wi_in.y, wi_in.z * sign);
     float p_coat = coat_probability(wo.z);
-    return (1 - p_coat) * cosine_hemisphere_pdf(wi.z) + p_coat * pdf_coat(wo, wi);
+    return (1 - p_coat) * pdf_cosine_hemisphere(wi.z) + p_coat * pdf_coat(wo, wi);
 }
 
 }  // namespace ml

@@ -1,11 +1,9 @@
 // Lambertian reflection and Lambertian transmission.
 #include "materials/bxdfs.h"
 #include "materials/fresnel.h"
+#include "sampling/warps.h"
 
 namespace ml {
-
-using bxdf_detail::cosine_hemisphere_pdf;
-using bxdf_detail::sample_cosine_hemisphere;
 
 RGB DiffuseBxdf::eval(const Vec3& wo, const Vec3& wi, TransportMode) const {
     if (!same_hemisphere(wo, wi)) return RGB();
@@ -20,14 +18,14 @@ std::optional<BsdfSample> DiffuseBxdf::sample(const Vec3& wo, float, const Vec2&
     BsdfSample s;
     s.f = m_r * kInvPi;
     s.wi = wi;
-    s.pdf_solid_angle = cosine_hemisphere_pdf(std::abs(wi.z));
+    s.pdf_solid_angle = pdf_cosine_hemisphere(std::abs(wi.z));
     s.flags = kBxdfDiffuseReflection;
     return s;
 }
 
 float DiffuseBxdf::pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode) const {
     if (!same_hemisphere(wo, wi) || m_r.is_black()) return 0;
-    return cosine_hemisphere_pdf(std::abs(wi.z));
+    return pdf_cosine_hemisphere(std::abs(wi.z));
 }
 
 uint8_t DiffuseTransmissionBxdf::flags() const {
@@ -51,12 +49,12 @@ std::optional<BsdfSample> DiffuseTransmissionBxdf::sample(const Vec3& wo, float 
     if (uc < pr / (pr + pt)) {
         if (wo.z < 0) wi.z = -wi.z;
         s.f = m_r * kInvPi;
-        s.pdf_solid_angle = cosine_hemisphere_pdf(std::abs(wi.z)) * pr / (pr + pt);
+        s.pdf_solid_angle = pdf_cosine_hemisphere(std::abs(wi.z)) * pr / (pr + pt);
         s.flags = kBxdfDiffuseReflection;
     } else {
         if (wo.z > 0) wi.z = -wi.z;
         s.f = m_t * kInvPi;
-        s.pdf_solid_angle = cosine_hemisphere_pdf(std::abs(wi.z)) * pt / (pr + pt);
+        s.pdf_solid_angle = pdf_cosine_hemisphere(std::abs(wi.z)) * pt / (pr + pt);
         s.flags = kBxdfDiffuseTransmission;
     }
     s.wi = wi;
@@ -68,7 +66,7 @@ float DiffuseTransmissionBxdf::pdf_solid_angle(const Vec3& wo, const Vec3& wi,
     float pr = m_r.max_component(), pt = m_t.max_component();
     if (pr + pt <= 0) return 0;
     float lobe = same_hemisphere(wo, wi) ? pr : pt;
-    return cosine_hemisphere_pdf(std::abs(wi.z)) * lobe / (pr + pt);
+    return pdf_cosine_hemisphere(std::abs(wi.z)) * lobe / (pr + pt);
 }
 
 }  // namespace ml

@@ -92,26 +92,4 @@ inline float coat_internal_round_trip(float eta, float thickness) {
     return float(sum / kSteps);
 }
 
-namespace bxdf_detail {
-
-// Cosine-weighted direction on the +z hemisphere (concentric disk mapping, then lifted).
-inline Vec3 sample_cosine_hemisphere(const Vec2& u) {
-    float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
-    float r = 0, phi = 0;
-    if (ox != 0 || oy != 0) {
-        if (std::abs(ox) > std::abs(oy)) {
-            r = ox;
-            phi = (kPi / 4) * (oy / ox);
-        } else {
-            r = oy;
-            phi = kPi / 2 - (kPi / 4) * (ox / oy);
-        }
-    }
-    float x = r * std::cos(phi), y = r * std::sin(phi);
-    return {x, y, safe_sqrt(1 - x * x - y * y)};
-}
-inline float cosine_hemisphere_pdf(float cos_theta) { return cos_theta * kInvPi; }
-
-}  // namespace bxdf_detail
-
 }  // namespace ml
