@@ -3,10 +3,10 @@
 // live in bench/; here 128 spp puts the noise of a 16x16 block mean near 1%.
 //
 // Block means are of the three channels together (the measure under which pbrt-v4 differs from
-// Tungsten by "up to 11%", on the red wall). The two references disagree with each other by up
-// to 11% on some blocks (spectral vs RGB rendering on the red wall; 5-6% on the ceiling above
-// the light, where pbrt-v4 and we agree to 1%), so each block must be within 6% of at least one
-// of them, and the image means must meet each reference's tolerance.
+// Tungsten by "up to 11%", on the red wall); Tungsten's 1024^2 image is box-averaged 4x4. Where
+// the two references agree to within 6%, a block must be within 6% of Tungsten's and 12% of
+// pbrt-v4's; where they disagree by more (spectral against RGB on the red wall, about 10%; the
+// dark front of the short box, 9%), it must be within 6% of at least one of them.
 #include <gtest/gtest.h>
 
 #include "film/image_metrics.h"
@@ -48,13 +48,18 @@ TEST(RenderReference, CornellBoxMatchesTungstenAndPbrt) {
     const int k = 16;
     Image bo = box_downsample(ours, k), bt = box_downsample(tungsten, k),
           bp = box_downsample(pbrt, k);
-    double worst = 0;
     for (size_t i = 0; i < bo.pixels.size(); ++i) {
         double o = bo.pixels[i].average(), t = bt.pixels[i].average(), p = bp.pixels[i].average();
-        double rel = std::min(std::abs(o - t) / t, std::abs(o - p) / p);
-        worst = std::max(worst, rel);
-        EXPECT_LT(rel, 0.06) << "block " << i % bo.width << "," << i / bo.width << ": ours " << o
-                             << ", Tungsten " << t << ", pbrt-v4 " << p;
+        std::string where = "block " + std::to_string(i % bo.width) + "," +
+                            std::to_string(i / bo.width) + ": ours " + std::to_string(o) +
+                            ", Tungsten " + std::to_string(t) + ", pbrt-v4 " + std::to_string(p);
+        double to_t = std::abs(o - t) / t, to_p = std::abs(o - p) / p;
+        if (std::abs(p - t) / t <= 0.06) {
+            EXPECT_LT(to_t, 0.06) << where;
+            EXPECT_LT(to_p, 0.12) << where;
+        } else {
+            EXPECT_LT(std::min(to_t, to_p), 0.06) << where;
+        }
     }
     std::printf("vs Tungsten: mean %+.2f%% %+.2f%% %+.2f%%, worst 16x16 block %.2f%%\n",
                 100 * dt.mean_rel_diff.r, 100 * dt.mean_rel_diff.g, 100 * dt.mean_rel_diff.b,
@@ -62,5 +67,4 @@ TEST(RenderReference, CornellBoxMatchesTungstenAndPbrt) {
     std::printf("vs pbrt-v4:  mean %+.2f%% %+.2f%% %+.2f%%, worst 16x16 block %.2f%%\n",
                 100 * dp.mean_rel_diff.r, 100 * dp.mean_rel_diff.g, 100 * dp.mean_rel_diff.b,
                 100 * max_block_rel_diff(ours, pbrt, k, 1e-2f, false));
-    std::printf("worst block against the nearer reference: %.2f%%\n", 100 * worst);
 }
