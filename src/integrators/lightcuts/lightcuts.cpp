@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "core/cone.h"
 #include "manylight/bounds.h"
 #include "manylight/gather.h"
 
@@ -89,9 +90,10 @@ namespace {
 
 struct CutEntry {
     int32_t node;
-    float bound;    // luminance of the error bound (infinite: must be split)
-    RGB estimate;   // the node's estimate
-    RGB rep_value;  // the representative's own contribution, visibility included
+    float bound;         // luminance of the error bound (infinite: must be split)
+    RGB estimate;        // the node's estimate
+    RGB rep_value;       // the representative's own contribution, visibility included
+    bool tight = false;  // bound uses the node's own material bound (else the BSDF's overall)
 };
 
 bool operator<(const CutEntry& a, const CutEntry& b) { return a.bound < b.bound; }
@@ -110,12 +112,30 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
         c = m_settings.clamped(c, pl.is_vpl);
         return scene.occluded(shadow) ? RGB() : c;
     };
+    // Bounds are made lazily: a new node first gets the BSDF's bound over every direction (one
+    // per gather point) times its geometric bound, and its own, tighter material bound only if
+    // it reaches the top of the heap still above the threshold. Most nodes of a cut never do.
+    const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
+    auto loose_bound = [&](const LightTreeNode& n) {
+        float gb = geometric_bound(n, x);
+        RGB b;
+        for (int c = 0; c < 3; ++c)
+            b[c] = (gb == 0 || m_all[c] == 0 || n.intensity[c] == 0)
+                       ? 0.f
+                       : m_all[c] * gb * n.intensity[c];
+        float l = (g.beta * b).luminance();
+        return std::isnan(l) ? kInfinity : l;
+    };
+    auto tight_bound = [&](const LightTreeNode& n) {
+        float l = (g.beta * node_error_bound(n, x, g.bsdf, wo)).luminance();
+        return std::isnan(l) ? kInfinity : l;
+    };
     // A node stands for its cluster: the representative's value scaled, channel by channel, by
     // the cluster's intensity over the representative's (by luminance where the representative
     // has none in a channel).
     auto make_entry = [&](int32_t index, const RGB& rep_value) {
         const LightTreeNode& n = m_tree.node(index);
-        CutEntry e{index, 0.f, RGB(), rep_value};
+        CutEntry e{index, 0.f, RGB(), rep_value, true};
         if (n.is_leaf()) {
             e.estimate = rep_value;  // exact
             return e;
@@ -124,8 +144,8 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
         float lum_ratio = I_rep.luminance() > 0 ? n.intensity.luminance() / I_rep.luminance() : 0;
         for (int c = 0; c < 3; ++c)
             e.estimate[c] = rep_value[c] * (I_rep[c] > 0 ? n.intensity[c] / I_rep[c] : lum_ratio);
-        e.bound = (g.beta * node_error_bound(n, x, g.bsdf, wo)).luminance();
-        if (std::isnan(e.bound)) e.bound = kInfinity;
+        e.bound = loose_bound(n);
+        e.tight = e.bound == 0;
         return e;
     };
 
@@ -159,6 +179,19 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
         std::pop_heap(heap.begin(), heap.end());
         CutEntry e = heap.back();
         heap.pop_back();
+        if (!e.tight) {
+            // Tighten the bound and look again: the node may no longer be the worst.
+            float b = tight_bound(m_tree.node(e.node));
+            if (b < e.bound) {
+                bound_sum += b - e.bound;
+                bound_sq += b * b - e.bound * e.bound;
+                e.bound = b;
+            }
+            e.tight = true;
+            heap.push_back(e);
+            std::push_heap(heap.begin(), heap.end());
+            continue;
+        }
         total = total - e.estimate;
         bound_sum -= e.bound;
         bound_sq -= e.bound * e.bound;
