@@ -112,6 +112,35 @@ LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptio
     for (PointLightKind kind :
          {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional})
         build_kind(lights, kind, opts);
+    order_depth_first();
+}
+
+// Cuts are refined from the roots down, so nodes laid out depth-first, each pair of children
+// side by side, are read from memory mostly in order rather than all over a large array.
+void LightTree::order_depth_first() {
+    std::vector<LightTreeNode> ordered;
+    ordered.reserve(m_nodes.size());
+    std::vector<std::pair<int32_t, int32_t>> stack;  // (old index, new index already taken)
+    for (int32_t& root : m_roots) {
+        if (root < 0) continue;
+        ordered.push_back(m_nodes[size_t(root)]);
+        int32_t new_root = int32_t(ordered.size() - 1);
+        stack.push_back({root, new_root});
+        root = new_root;
+        while (!stack.empty()) {
+            auto [old_index, new_index] = stack.back();
+            stack.pop_back();
+            const LightTreeNode& old_node = m_nodes[size_t(old_index)];
+            if (old_node.is_leaf()) continue;
+            int32_t first = int32_t(ordered.size());
+            for (int k = 0; k < 2; ++k) ordered.push_back(m_nodes[size_t(old_node.children[k])]);
+            for (int k = 0; k < 2; ++k) {
+                ordered[size_t(new_index)].children[k] = first + k;
+                stack.push_back({old_node.children[k], first + k});
+            }
+        }
+    }
+    m_nodes = std::move(ordered);
 }
 
 void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind kind,

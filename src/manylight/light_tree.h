@@ -52,6 +52,7 @@ public:
 private:
     void build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
                     const LightTreeOptions& opts);
+    void order_depth_first();
 
     std::vector<LightTreeNode> m_nodes;
     int32_t m_roots[3] = {-1, -1, -1};
