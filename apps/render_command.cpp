@@ -33,11 +33,14 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
     r->add_option("--sampler", a.sampler, "independent, stratified or sobol");
     r->add_option("--time-limit", a.time_limit, "render progressively for this many seconds")
         ->check(CLI::PositiveNumber);
-    r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)");
+    // One value per flag, so that `--set a.b=1 scene.pbrt` leaves the scene positional.
+    r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)")
+        ->allow_extra_args(false);
     r->add_option("--stats", a.stats, "write figures as JSON to this file");
     r->add_option("--aov", a.aovs,
                   "also write an extra image the integrator makes (lightcuts: cutsize) to "
-                  "OUT.NAME.exr (repeatable)");
+                  "OUT.NAME.exr (repeatable)")
+        ->allow_extra_args(false);
     r->add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
 }
 

@@ -135,3 +135,11 @@ TEST_F(Cli, BadOutputExtensionIsAUsageError) {
     Result r = run("render -q -o " + path("x.txt"));
     EXPECT_EQ(r.code, 2) << r.output;
 }
+
+TEST_F(Cli, SetBeforeTheSceneLeavesTheScenePositional) {
+    std::string scene = write("tiny.pbrt", kTinyScene);
+    Result r = run("render --set path.maxdepth=2 " + scene +
+                   " --set path.rrdepth=3 --spp 1 -q -o " + path("a.png"));
+    EXPECT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(path("a.png")));
+}
