@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "core/cone.h"
+#include "core/stats.h"
 #include "manylight/bounds.h"
 #include "manylight/gather.h"
 
@@ -49,15 +50,19 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
     uint64_t n = m_gather_points.load();
+    double pixels = double(ctx.film.width()) * ctx.film.height() * std::max(1, r.spp);
+    double shadow_per_pixel = double(stats::total().shadow) / pixels;
     double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
     r.extra_json = fmt::format(
         "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"max_cut\": {}, \"avg_cut_size\": "
         "{:.2f}, "
-        "\"max_cut_size\": {}, \"gather_points\": {}, \"tree_build_seconds\": {:.4f}, "
+        "\"max_cut_size\": {}, \"gather_points\": {}, \"shadow_rays_per_pixel\": {:.1f}, "
+        "\"tree_build_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
         "\"light_paths\": {}}}",
-        m_error, criterion_name(), m_max_cut, avg, m_cut_max.load(), n, m_tree_seconds,
-        m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.light_paths);
+        m_error, criterion_name(), m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
+        m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional,
+        m_set.light_paths);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
     Image cut(ctx.film.width(), ctx.film.height());
     for (size_t i = 0; i < m_pixel_cut.size(); ++i)
