@@ -37,6 +37,7 @@ def render(scene, integrator, count, res, glossy, tmp):
         s = json.load(f)
     s["wall"] = time.time() - t0
     s["cmd"] = " ".join(os.path.relpath(c, ROOT) if c.startswith(ROOT) else c for c in cmd)
+    s["cmd"] = s["cmd"].replace(tmp, "OUT")
     return out, s
 
 

@@ -34,6 +34,7 @@ def render(scene, args, tmp, name):
         s = json.load(f)
     s["wall"] = wall
     s["cmd"] = " ".join(os.path.relpath(c, ROOT) if c.startswith(ROOT) else c for c in cmd)
+    s["cmd"] = s["cmd"].replace(tmp, "OUT")
     return out, s
 
 
