@@ -52,11 +52,11 @@ def main():
         spp = "8" if quick else "64"
         _, s = render(cornell, ["--integrator", "path", "--resolution", "512x512", "--spp", spp,
                                 "--max-depth", "64", "--seed", "1"], tmp, "cornell")
-        rows.append(("cornell-box 512x512 64spp depth 64", s, PEERS["cornell"]))
+        rows.append((f"cornell-box 512x512 {spp}spp depth 64", s, PEERS["cornell"] if not quick else {}))
         kspp = "2" if quick else "16"
         _, s = render(kitchen, ["--integrator", "path", "--resolution", "640x360", "--spp", kspp,
                                 "--max-depth", "17", "--seed", "1"], tmp, "kitchen")
-        rows.append(("kitchen 640x360 16spp depth 17", s, PEERS["kitchen"]))
+        rows.append((f"kitchen 640x360 {kspp}spp depth 17", s, PEERS["kitchen"] if not quick else {}))
         # Accuracy: Cornell box at 256x256, 512 spp against both references.
         rspp = "32" if quick else "512"
         img, s = render(cornell, ["--integrator", "path", "--resolution", "256x256", "--spp", rspp,
