@@ -30,6 +30,62 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params, const Transfor
     }
     m_shutter_open = params.get_float("shutteropen", 0.f);
     m_shutter_close = params.get_float("shutterclose", 1.f);
+    m_world_to_camera = camera_to_world.inverse();
+    m_forward = normalize(camera_to_world.vector(Vec3(0, 0, 1)));
+    m_image_area = (m_screen[1] - m_screen[0]) * (m_screen[3] - m_screen[2]) * sqr(m_tan_half_fov);
+}
+
+Vec2 PerspectiveCamera::raster_of(const Vec3& p) const {
+    float sx = p.x / m_tan_half_fov, sy = p.y / m_tan_half_fov;
+    return Vec2((sx - m_screen[0]) / (m_screen[1] - m_screen[0]) * m_width,
+                (m_screen[3] - sy) / (m_screen[3] - m_screen[2]) * m_height);
+}
+
+float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
+    // In camera space: the ray must leave the lens forwards.
+    Vec3 d = normalize(m_world_to_camera.vector(ray.d));
+    float cos_theta = d.z;
+    if (cos_theta <= 0) return 0;
+    // The point the ray focuses on, brought back to the plane z = 1 (a pinhole's ray through
+    // it leaves the same raster position).
+    Vec3 p_plane = d / cos_theta;
+    if (m_lens_radius > 0) {
+        Vec3 o = m_world_to_camera.point(ray.o);
+        Vec3 p_focus = o + d * ((m_focal_distance - o.z) / cos_theta);
+        p_plane = p_focus / m_focal_distance;
+    }
+    Vec2 r = raster_of(p_plane);
+    if (!(r.x >= 0 && r.x < m_width && r.y >= 0 && r.y < m_height)) return 0;
+    if (p_raster) *p_raster = r;
+    float cos2 = cos_theta * cos_theta;
+    return 1 / (m_image_area * lens_area() * cos2 * cos2);
+}
+
+void PerspectiveCamera::pdf_we(const Ray& ray, float* pdf_area, float* pdf_solid_angle) const {
+    *pdf_area = *pdf_solid_angle = 0;
+    if (importance(ray) == 0) return;
+    float cos_theta = normalize(m_world_to_camera.vector(ray.d)).z;
+    *pdf_area = 1 / lens_area();
+    *pdf_solid_angle = 1 / (m_image_area * cos_theta * cos_theta * cos_theta);
+}
+
+std::optional<CameraWiSample> PerspectiveCamera::sample_wi(const Vec3& p_ref, const Vec2& u) const {
+    // A uniform point on the lens (the pinhole itself when there is no lens).
+    Vec2 lens = sample_uniform_disk_concentric(u) * m_lens_radius;
+    CameraWiSample s;
+    s.p_lens = m_camera_to_world.point(Vec3(lens.x, lens.y, 0));
+    s.n_lens = m_forward;
+    Vec3 wi = s.p_lens - p_ref;
+    float d2 = length_squared(wi);
+    if (!(d2 > 0)) return std::nullopt;
+    s.wi = wi / std::sqrt(d2);
+    float cos_lens = abs_dot(s.n_lens, s.wi);
+    if (cos_lens == 0) return std::nullopt;
+    s.We = importance(Ray{s.p_lens, -s.wi}, &s.p_raster);
+    if (s.We == 0) return std::nullopt;
+    // Area density 1 / lens_area on the lens, to solid angle at p_ref.
+    s.pdf_solid_angle = d2 / (cos_lens * lens_area());
+    return s;
 }
 
 Ray PerspectiveCamera::generate_ray(const CameraSample& s) const {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "core/math.h"
 #include "scene/params.h"
@@ -15,6 +16,15 @@ struct CameraSample {
     float time = 0;  // [0,1)
 };
 
+// A point on the lens that sees a given scene point (PerspectiveCamera::sample_wi).
+struct CameraWiSample {
+    float We = 0;               // importance carried from the lens point towards the scene point
+    Vec3 wi;                    // unit direction from the scene point towards the lens point
+    float pdf_solid_angle = 0;  // density of wi at the scene point
+    Vec3 p_lens, n_lens;        // the lens point and the lens normal (the viewing direction)
+    Vec2 p_raster;              // where the scene point lands on the film, pixels
+};
+
 class PerspectiveCamera {
 public:
     // Reads "fov", "lensradius", "focaldistance", "frameaspectratio", "screenwindow",
@@ -22,12 +32,34 @@ public:
     PerspectiveCamera(const ParameterList& params, const Transform& camera_to_world, int width,
                       int height);
     Ray generate_ray(const CameraSample& s) const;
+
+    // Importance (pbrt-v4's We) of `ray`, leaving a point on the lens: 1 / (A lens_area cos^4),
+    // where A is the area of the image on the plane at unit distance, so that its integral
+    // over the film (cos-weighted, over solid angle) and the lens is one. Zero for rays that
+    // leave the film; the raster position the ray reaches goes to `p_raster` when not null.
+    float importance(const Ray& ray, Vec2* p_raster = nullptr) const;
+    // Densities of generate_ray() producing `ray` (raster position uniform over the film):
+    // over the lens area, and over solid angle.
+    void pdf_we(const Ray& ray, float* pdf_area, float* pdf_solid_angle) const;
+    // A lens point towards which `p_ref` sends light (pbrt-v4's SampleWi); nullopt when the
+    // point lands off the film or on the lens itself.
+    std::optional<CameraWiSample> sample_wi(const Vec3& p_ref, const Vec2& u) const;
+    // The viewing direction (the lens normal), world space.
+    Vec3 forward() const { return m_forward; }
+    // Area of the lens (1 for a pinhole, whose position is a delta).
+    float lens_area() const { return m_lens_radius > 0 ? kPi * sqr(m_lens_radius) : 1.f; }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
     const Transform& camera_to_world() const { return m_camera_to_world; }
     float lens_radius() const { return m_lens_radius; }
     float focal_distance() const { return m_focal_distance; }
 
 private:
-    Transform m_camera_to_world;
+    // Raster position of a camera-space point on the plane z = 1.
+    Vec2 raster_of(const Vec3& p_plane) const;
+    Transform m_camera_to_world, m_world_to_camera;
+    Vec3 m_forward;
+    float m_image_area;  // A: the film's area on the plane z = 1 of camera space
     int m_width, m_height;
     float m_screen[4];  // x min, x max, y min, y max
     float m_tan_half_fov;
