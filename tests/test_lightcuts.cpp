@@ -105,3 +105,33 @@ TEST(Lightcuts, SumCriterionBoundsEveryPixel) {
         EXPECT_GE(f.fraction_within(0.02 * 1.001), 0.999);
     }
 }
+
+// Every clustered node of every cut, checked against the exact sum over its lights (with a
+// shadow ray each, `lightcuts.verify`): its error never exceeds its bound. The kitchen has bump
+// mapping, coated and metal surfaces, glossy VPLs and area lights close to the worktops.
+TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
+    for (const char* glossy : {"bsdf", "skip"}) {
+        RenderOptions opt;
+        opt.integrator = "lightcuts";
+        opt.spp = 1;
+        opt.width = 24;
+        opt.height = 14;
+        opt.seed = 3;
+        opt.progress = false;
+        opt.set["vpl.count"] = "2000";
+        opt.set["vpl.glossy"] = glossy;
+        opt.set["lightcuts.verify"] = "true";
+        RenderOutput out = render_scene(
+            parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) + "/scenes/kitchen/scene-v4.pbrt"),
+            opt);
+        const std::string& json = out.figures.extra_json;
+        auto number = [&](const std::string& key) {
+            size_t pos = json.find("\"" + key + "\": ");
+            EXPECT_NE(pos, std::string::npos) << key;
+            return pos == std::string::npos ? -1.0 : std::atof(json.c_str() + pos + key.size() + 4);
+        };
+        std::printf("glossy %s: %s\n", glossy, json.c_str());
+        EXPECT_GT(number("nodes"), 10000);
+        EXPECT_EQ(number("violations"), 0);
+    }
+}

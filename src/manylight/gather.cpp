@@ -14,7 +14,7 @@ std::optional<GatherPoint> trace_to_gather_point(const Scene& scene, Ray ray, Sa
         // Only the camera ray and delta chains get here, so emission counts whole.
         *L += g.beta * emission_along(scene, ray, hit ? &g.si : nullptr, true, 0.f, {}, nullptr);
         if (!hit) return std::nullopt;
-        g.bsdf = g.si.material ? g.si.material->get_bsdf(g.si, scratch) : Bsdf();
+        g.bsdf = hit_bsdf(g.si, scratch);
         if (!g.bsdf) return std::nullopt;
         if (g.bsdf.has_nonspecular()) return g;
         if (depth == max_depth) return std::nullopt;

@@ -80,6 +80,8 @@ private:
         int max_bounces = 4 * m_options.max_depth + 16;  // delta and skipped surfaces included
         for (int bounce = 0; bounce < max_bounces; ++bounce) {
             if (!m_scene.intersect(ray, &si)) break;
+            // Not hit_bsdf: deposit() builds the BSDF again from si, which must keep its unbumped
+            // normal; cosines use the BSDF's own normal instead.
             Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
             if (!bsdf) break;
             uint8_t flags = bsdf.flags();
@@ -93,7 +95,7 @@ private:
             float u_rr = sampler.get_1d();
             auto bs = bsdf.sample(si.wo, uc, u, TransportMode::Importance);
             if (!bs) break;
-            beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+            beta *= bs->f * (abs_dot(bs->wi, bsdf.frame().n) / bs->pdf_solid_angle);
             ray = spawn_ray(si, bs->wi);
             // Russian roulette after the second bounce, on the throughput relative to the start.
             if (bounce >= 1) {
@@ -117,8 +119,9 @@ private:
         if (dot(pl.n, wi) < 0) pl.n = -pl.n;
         uint8_t flags = bsdf.flags();
         bool transmits = flags & kBxdfTransmission;
-        if (!transmits && !(flags & kBxdfGlossy)) {
-            // Lambertian: f is constant, I(w) = flux f cos(n, w), a cosine lobe.
+        if (flags == kBxdfDiffuseReflection) {
+            // Lambertian: f is constant, I(w) = flux f cos(n, w), a cosine lobe. (A diffuse base
+            // under a smooth coat is not: Fresnel and the coat's absorption depend on w.)
             pl.kind = PointLightKind::Oriented;
             pl.intensity = beta * bsdf.eval(pl.n, wi, TransportMode::Radiance);
             if (pl.intensity.is_black()) return;

@@ -19,4 +19,15 @@ public:
     virtual std::string type() const = 0;
 };
 
+// The BSDF at a hit (none when the surface has no material), with si.ns set to the BSDF's
+// shading normal: bump mapping tilts it, and every cosine at the hit must use the tilted normal
+// the BSDF was built around (pbrt-v4's SetShadingGeometry). Integrators call this, not
+// Material::get_bsdf.
+inline Bsdf hit_bsdf(SurfaceInteraction& si, ScratchBuffer& scratch) {
+    if (!si.material) return Bsdf();
+    Bsdf bsdf = si.material->get_bsdf(si, scratch);
+    if (bsdf) si.ns = bsdf.frame().n;
+    return bsdf;
+}
+
 }  // namespace ml

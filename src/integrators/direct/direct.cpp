@@ -24,7 +24,7 @@ RGB DirectIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sam
         L += beta * emission_along(scene, ray, hit ? &si : nullptr, depth == 0 || specular_bounce,
                                    prev_pdf, prev_ctx, nullptr);
         if (!hit || last || depth == m_max_depth) break;
-        Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
+        Bsdf bsdf = hit_bsdf(si, scratch);
         if (!bsdf) break;
 
         // Direct light: one MIS sample of every light.

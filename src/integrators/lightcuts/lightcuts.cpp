@@ -16,6 +16,7 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
     m_error = settings.get_float("error", 0.02f);
     m_max_cut = settings.get_int("max_cut", 1000);
+    m_verify = settings.get_bool("verify", false);
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
         m_criterion = Criterion::Max;
@@ -53,16 +54,27 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     double pixels = double(ctx.film.width()) * ctx.film.height() * std::max(1, r.spp);
     double shadow_per_pixel = double(stats::total().shadow) / pixels;
     double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
+    std::string verify;
+    if (m_verify) {
+        uint64_t nodes = m_verified_nodes.load();
+        double per_node = 1.0 / double(std::max<uint64_t>(1, nodes));
+        verify = fmt::format(
+            ", \"verify\": {{\"nodes\": {}, \"violations\": {}, \"mean_abs_node_error\": {:.4g}, "
+            "\"mean_node_bound\": {:.4g}, \"mean_rel_error\": {:.4g}}}",
+            nodes, m_violations.load(), m_verify_abs_error.load() * per_node,
+            m_verify_bounds.load() * per_node,
+            m_verify_total.load() / double(std::max<uint64_t>(1, n)));
+    }
     r.extra_json = fmt::format(
         "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"max_cut\": {}, \"avg_cut_size\": "
         "{:.2f}, "
         "\"max_cut_size\": {}, \"gather_points\": {}, \"shadow_rays_per_pixel\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
-        "\"light_paths\": {}}}",
+        "\"light_paths\": {}{}}}",
         m_error, criterion_name(), m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
         m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional,
-        m_set.light_paths);
+        m_set.light_paths, verify);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
     Image cut(ctx.film.width(), ctx.film.height());
     for (size_t i = 0; i < m_pixel_cut.size(); ++i)
@@ -90,20 +102,6 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
     }
     return L;
 }
-
-namespace {
-
-struct CutEntry {
-    int32_t node;
-    float bound;         // luminance of the error bound (infinite: must be split)
-    RGB estimate;        // the node's estimate
-    RGB rep_value;       // the representative's own contribution, visibility included
-    bool tight = false;  // bound uses the node's own material bound (else the BSDF's overall)
-};
-
-bool operator<(const CutEntry& a, const CutEntry& b) { return a.bound < b.bound; }
-
-}  // namespace
 
 RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cut_size) const {
     const Vec3& x = g.si.p;
@@ -216,7 +214,56 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
     // Sum the cut afresh: the running total drifts by float cancellation.
     RGB L;
     for (const CutEntry& e : heap) L += e.estimate;
+    if (m_verify) verify_cut(scene, g, heap, L);
     return L;
+}
+
+void LightcutsIntegrator::verify_cut(const Scene& scene, const GatherPoint& g,
+                                     const std::vector<CutEntry>& cut, const RGB& estimate) const {
+    uint64_t nodes = 0, violations = 0;
+    double abs_error = 0, bounds = 0;
+    RGB exact_total;
+    std::vector<int32_t> stack;
+    for (const CutEntry& e : cut) {
+        const LightTreeNode& n = m_tree.node(e.node);
+        if (n.is_leaf()) {
+            exact_total += e.estimate;
+            continue;
+        }
+        RGB exact;
+        stack.assign(1, e.node);
+        while (!stack.empty()) {
+            const LightTreeNode& m = m_tree.node(stack.back());
+            stack.pop_back();
+            if (!m.is_leaf()) {
+                stack.push_back(m.children[0]);
+                stack.push_back(m.children[1]);
+                continue;
+            }
+            const PointLight& pl = m_set.lights[size_t(m.light)];
+            RGB c;
+            Ray shadow;
+            if (!point_light_contribution(m_set, pl, g, &c, &shadow)) continue;
+            c = m_settings.clamped(c, pl.is_vpl);
+            if (!scene.occluded(shadow)) exact += c;
+        }
+        exact_total += exact;
+        RGB bound = g.beta * node_error_bound(n, g.si.p, g.bsdf, g.si.wo);
+        ++nodes;
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(e.estimate[c] - exact[c]) > bound[c] * 1.0001f + 1e-12f) {
+                ++violations;
+                break;
+            }
+        abs_error += std::abs(e.estimate.luminance() - exact.luminance());
+        bounds += bound.luminance();
+    }
+    m_verified_nodes += nodes;
+    m_violations += violations;
+    m_verify_abs_error.fetch_add(abs_error);
+    m_verify_bounds.fetch_add(bounds);
+    m_verify_total.fetch_add(std::abs(exact_total.luminance() - estimate.luminance()) /
+                             std::max(1e-20f, exact_total.luminance()));
 }
 
 }  // namespace ml

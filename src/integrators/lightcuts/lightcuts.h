@@ -35,8 +35,20 @@ public:
     RenderResult render(const RenderContext& ctx) override;
 
 private:
+    struct CutEntry {
+        int32_t node;
+        float bound;         // luminance of the error bound (infinite: must be split)
+        RGB estimate;        // the node's estimate
+        RGB rep_value;       // the representative's own contribution, visibility included
+        bool tight = false;  // bound uses the node's own material bound (else the BSDF's overall)
+        bool operator<(const CutEntry& o) const { return bound < o.bound; }
+    };
     // The cut at one gather point: its radiance; *cut_size receives the number of nodes.
     RGB shade(const Scene& scene, const GatherPoint& g, int* cut_size) const;
+    // `lightcuts.verify`: every clustered node of the cut just made against the exact sum over
+    // its lights (a shadow ray each): counts nodes whose error exceeds their bound.
+    void verify_cut(const Scene& scene, const GatherPoint& g, const std::vector<CutEntry>& cut,
+                    const RGB& estimate) const;
 
     ManyLightSettings m_settings;
     float m_error = 0.02f;
@@ -46,6 +58,9 @@ private:
                                              : (m_criterion == Criterion::Sum ? "sum" : "probable");
     }
     int m_max_cut = 1000;
+    bool m_verify = false;
+    mutable std::atomic<uint64_t> m_verified_nodes{0}, m_violations{0};
+    mutable std::atomic<double> m_verify_abs_error{0}, m_verify_bounds{0}, m_verify_total{0};
     PointLightSet m_set;
     LightTree m_tree;
     double m_tree_seconds = 0;

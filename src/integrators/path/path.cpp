@@ -37,7 +37,7 @@ RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampl
         if (!hit) break;
         if (depth == m_max_depth) break;
 
-        Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
+        Bsdf bsdf = hit_bsdf(si, scratch);
         if (!bsdf) break;
 
         // Next-event estimation: one light chosen by power, one sample on it.

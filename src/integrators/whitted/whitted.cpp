@@ -20,7 +20,7 @@ RGB WhittedIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sa
         bool hit = scene.intersect(ray, &si);
         L += beta * emission_along(scene, ray, hit ? &si : nullptr, true, 0.f, {}, nullptr);
         if (!hit || depth == m_max_depth) break;
-        Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
+        Bsdf bsdf = hit_bsdf(si, scratch);
         if (!bsdf) break;
         if (bsdf.has_nonspecular())
             for (const auto& light : scene.lights())
