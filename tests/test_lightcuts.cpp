@@ -110,7 +110,7 @@ TEST(Lightcuts, SumCriterionBoundsEveryPixel) {
 // shadow ray each, `lightcuts.verify`): its error never exceeds its bound. The kitchen has bump
 // mapping, coated and metal surfaces, glossy VPLs and area lights close to the worktops.
 TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
-    for (const char* glossy : {"bsdf", "skip"}) {
+    for (const char* glossy : {"bsdf", "diffuse", "skip"}) {
         RenderOptions opt;
         opt.integrator = "lightcuts";
         opt.spp = 1;

@@ -215,7 +215,7 @@ TEST(PointLightConversion, AreaIrradianceConverges) {
 namespace {
 
 PointLightSet vpls_only(const Scene& scene, int count, int max_depth, uint64_t seed,
-                        bool glossy = true) {
+                        GlossyVpls glossy = GlossyVpls::Bsdf) {
     PointLightOptions o;
     o.emitters = false;
     o.vpl_count = count;
@@ -358,8 +358,8 @@ TEST(Vpl, IntensityWithinBound) {
 
 TEST(Vpl, GlossySkipLeavesNoneOnConductor) {
     auto scene = make_scene(mixed_box());
-    PointLightSet with = vpls_only(*scene, 10000, 5, 2, true);
-    PointLightSet skip = vpls_only(*scene, 10000, 5, 2, false);
+    PointLightSet with = vpls_only(*scene, 10000, 5, 2, GlossyVpls::Bsdf);
+    PointLightSet skip = vpls_only(*scene, 10000, 5, 2, GlossyVpls::Skip);
     EXPECT_GE(skip.vpls, 10000u);
     auto on_floor = [](const PointLight& pl) {
         return std::abs(pl.p.y) < 1e-3f && std::abs(pl.p.x) < 1.49f && pl.p.z < 0.99f;
@@ -374,6 +374,39 @@ TEST(Vpl, GlossySkipLeavesNoneOnConductor) {
     EXPECT_GT(floor_with, 0u);
     EXPECT_EQ(floor_skip, 0u);
     EXPECT_TRUE(skip.surfaces.empty());
+}
+
+// vpl.glossy=diffuse: no VPL on the conductor or the rough pane (no diffuse part), and the
+// coated wall's VPLs re-emit through the base under the coat alone: within their bound, and
+// below the whole BSDF towards the coat's highlight.
+TEST(Vpl, GlossyDiffuseKeepsOnlyTheCoatedBase) {
+    auto scene = make_scene(mixed_box());
+    PointLightSet set = vpls_only(*scene, 10000, 5, 2, GlossyVpls::Diffuse);
+    EXPECT_GE(set.vpls, 10000u);
+    size_t on_coat = 0, dimmer = 0;
+    for (const PointLight& pl : set.lights) {
+        if (std::abs(pl.p.y - 1.5f) < 1e-3f) continue;  // the diffuse ceiling
+        bool floor = std::abs(pl.p.y) < 1e-3f && std::abs(pl.p.x) < 1.49f && pl.p.z < 0.99f;
+        bool pane = std::abs(pl.p.z - 1) < 1e-3f && std::abs(pl.p.x) < 1.49f && pl.p.y < 1.49f;
+        EXPECT_FALSE(floor || pane) << "VPL on a surface with no diffuse part";
+        if (std::abs(pl.p.x + 1.5f) > 1e-3f) continue;
+        ++on_coat;
+        ASSERT_GE(pl.surface, 0);
+        const VplSurface& s = set.surfaces[size_t(pl.surface)];
+        EXPECT_TRUE(s.diffuse_only);
+        EXPECT_EQ(pl.kind, PointLightKind::Oriented);
+        // Towards the mirror direction of the incoming light, where the coat's lobe peaks.
+        Vec3 n = s.bsdf.frame().n;
+        if (dot(n, s.wi) < 0) n = -n;
+        Vec3 w = n * (2 * dot(s.wi, n)) - s.wi;
+        RGB I = point_light_intensity(set, pl, w);
+        RGB whole = s.flux * s.bsdf.eval(w, s.wi) * abs_dot(w, n);
+        EXPECT_LE(I.r, pl.intensity.r * std::max(0.f, dot(pl.n, w)) * 1.0001f + 1e-12f);
+        EXPECT_LE(I.g, whole.g * 1.0001f + 1e-12f);
+        dimmer += I.g < 0.9f * whole.g;
+    }
+    EXPECT_GT(on_coat, 100u);
+    EXPECT_GT(dimmer, on_coat / 2) << "the coat's highlight is left out";
 }
 
 namespace {

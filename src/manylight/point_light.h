@@ -22,6 +22,11 @@ enum class PointLightKind : uint8_t {
     Directional,  // parallel light travelling along n; intensity is the irradiance it gives
 };
 
+// What becomes of light paths at glossy surfaces (vpl.glossy): a VPL that re-emits through the
+// whole BSDF, one that keeps only its diffuse part (Bxdf::eval_diffuse; none on a surface with
+// no diffuse part), or no VPL. The path carries on through the BSDF in every case.
+enum class GlossyVpls : uint8_t { Bsdf, Diffuse, Skip };
+
 struct PointLight {
     Vec3 p;  // position (omni, oriented)
     Vec3 n;  // oriented: lobe axis; directional: unit direction the light travels; spot: axis
@@ -42,8 +47,9 @@ struct PointLight {
 // direction the light arrived from, and the flux that arrived.
 struct VplSurface {
     Bsdf bsdf;
-    Vec3 wi;   // unit, pointing back towards where the light came from
-    RGB flux;  // incident flux carried by the light path
+    Vec3 wi;                    // unit, pointing back towards where the light came from
+    RGB flux;                   // incident flux carried by the light path
+    bool diffuse_only = false;  // re-emits through the BSDF's diffuse part alone
 };
 
 struct PointLightSet {

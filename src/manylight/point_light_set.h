@@ -13,13 +13,13 @@ namespace ml {
 class Scene;
 
 struct PointLightOptions {
-    int area_count = 1024;   // oriented lights shared over the area lights in proportion to power
-    int env_count = 1024;    // directional lights for each infinite light
-    int vpl_count = 10000;   // target number of VPLs (at least this many are made)
-    int vpl_max_depth = 5;   // most VPLs along one light path
-    bool vpl_glossy = true;  // glossy VPLs emit through their BSDF; false: no VPL on glossy
-    bool emitters = true;    // include the emitters' point lights
-    bool vpls = true;        // include VPLs
+    int area_count = 1024;  // oriented lights shared over the area lights in proportion to power
+    int env_count = 1024;   // directional lights for each infinite light
+    int vpl_count = 10000;  // target number of VPLs (at least this many are made)
+    int vpl_max_depth = 5;  // most VPLs along one light path
+    GlossyVpls vpl_glossy = GlossyVpls::Bsdf;  // VPLs on glossy surfaces (point_light.h)
+    bool emitters = true;                      // include the emitters' point lights
+    bool vpls = true;                          // include VPLs
     uint64_t seed = 0;
 };
 

@@ -86,7 +86,7 @@ private:
             if (!bsdf) break;
             uint8_t flags = bsdf.flags();
             bool glossy = flags & kBxdfGlossy;
-            if (bsdf.has_nonspecular() && (m_options.glossy || !glossy)) {
+            if (bsdf.has_nonspecular() && (m_options.glossy != GlossyVpls::Skip || !glossy)) {
                 deposit(si, bsdf, beta, chunk);
                 if (++deposited >= m_options.max_depth) break;
             }
@@ -134,10 +134,12 @@ private:
         Bsdf kept = si.material->get_bsdf(si, *chunk.arena);
         // Oriented lights are bounded by intensity * cos, so they need a bound of f alone;
         // omni lights (both sides) a bound of f |cos|.
+        bool diffuse_only = m_options.glossy == GlossyVpls::Diffuse && (flags & kBxdfGlossy);
         pl.kind = transmits ? PointLightKind::Omni : PointLightKind::Oriented;
-        pl.intensity = beta * estimate_max_bsdf_value(kept, wi, transmits);
+        pl.intensity = beta * estimate_max_bsdf_value(kept, wi, transmits, diffuse_only);
+        if (pl.intensity.is_black()) return;  // nothing diffuse to keep
         pl.surface = int32_t(chunk.surfaces.size());
-        chunk.surfaces.push_back(VplSurface{kept, wi, beta});
+        chunk.surfaces.push_back(VplSurface{kept, wi, beta, diffuse_only});
         chunk.lights.push_back(pl);
     }
 
@@ -157,7 +159,7 @@ Vec3 fibonacci_direction(int i, int n) {
 
 }  // namespace
 
-RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos) {
+RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos, bool diffuse_only) {
     // Probe directions: a spherical Fibonacci set, the normal, the mirror direction, and BSDF
     // samples from wi (which crowd where f(wi, .) = f(., wi) peaks, reciprocity); the largest
     // value seen, doubled for what falls between probes. An estimate, not a proof: it is
@@ -167,7 +169,8 @@ RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos) {
     Vec3 peak = n;
     float peak_value = -1;
     auto probe = [&](const Vec3& w) {
-        RGB f = bsdf.eval(w, wi, TransportMode::Radiance);
+        RGB f = diffuse_only ? bsdf.eval_diffuse(w, wi, TransportMode::Radiance)
+                             : bsdf.eval(w, wi, TransportMode::Radiance);
         if (with_cos) f = f * abs_dot(w, n);
         if (!f.is_finite()) return false;
         best = max_rgb(best, f);

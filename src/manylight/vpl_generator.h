@@ -10,10 +10,9 @@ namespace ml {
 class Scene;
 
 struct VplOptions {
-    int count = 10000;   // target: paths are traced until at least this many VPLs exist
-    int max_depth = 5;   // most VPLs along one light path
-    bool glossy = true;  // glossy VPLs re-emit through their BSDF; false: none on glossy surfaces,
-                         // the path passes on as through a delta surface
+    int count = 10000;  // target: paths are traced until at least this many VPLs exist
+    int max_depth = 5;  // most VPLs along one light path
+    GlossyVpls glossy = GlossyVpls::Bsdf;  // VPLs on glossy surfaces (point_light.h)
     uint64_t seed = 0;
 };
 
@@ -27,6 +26,7 @@ void generate_vpls(const Scene& scene, const VplOptions& options, PointLightSet&
 // An estimate of the largest BSDF value max_w f(w, wi) (times |cos(w, n)| when `with_cos`) over
 // every direction w, by evaluation at probe directions and a safety margin; used as the bound
 // `intensity` of glossy VPLs until BSDFs bound themselves.
-RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos);
+RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos,
+                            bool diffuse_only = false);
 
 }  // namespace ml

@@ -61,6 +61,12 @@ public:
     // cone (Radiance mode). Delta lobes contribute nothing (a point light cannot be hit by one).
     // The default, +infinity, is sound for a Bxdf that knows no better (bxdf_bounds.cpp).
     virtual RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const;
+    // The diffuse part of eval: what is left without glossy and specular lobes (a coated
+    // surface's base seen through its coat); the whole of a purely diffuse Bxdf, none of a
+    // glossy one that does not say otherwise. Glossy VPLs keep only this with vpl.glossy=diffuse.
+    virtual RGB eval_diffuse(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+        return (flags() & (kBxdfGlossy | kBxdfSpecular)) ? RGB() : eval(wo, wi, mode);
+    }
 };
 
 // A Bxdf placed at a hit: world-space directions in, world-space directions out.
@@ -84,6 +90,12 @@ public:
         Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
         if (lo.z == 0) return RGB();
         return m_bxdf->eval(lo, li, mode);
+    }
+    RGB eval_diffuse(const Vec3& wo, const Vec3& wi,
+                     TransportMode mode = TransportMode::Radiance) const {
+        Vec3 lo = m_frame.to_local(wo), li = m_frame.to_local(wi);
+        if (lo.z == 0) return RGB();
+        return m_bxdf->eval_diffuse(lo, li, mode);
     }
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode = TransportMode::Radiance) const {

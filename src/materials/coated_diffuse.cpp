@@ -100,6 +100,11 @@ RGB CoatedDiffuseBxdf::eval(const Vec3& wo_in, const Vec3& wi_in, TransportMode)
     return eval_base(wo.z, wi.z) + RGB(eval_coat(wo, wi));
 }
 
+RGB CoatedDiffuseBxdf::eval_diffuse(const Vec3& wo, const Vec3& wi, TransportMode) const {
+    if (!same_hemisphere(wo, wi)) return RGB();
+    return eval_base(std::abs(wo.z), std::abs(wi.z));
+}
+
 std::optional<BsdfSample> CoatedDiffuseBxdf::sample(const Vec3& wo_in, float uc, const Vec2& u,
                                                     TransportMode mode) const {
     if (wo_in.z == 0) return std::nullopt;

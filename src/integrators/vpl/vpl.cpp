@@ -10,9 +10,14 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     m.lights.vpl_count = s.get_int("vpl.count", m.lights.vpl_count);
     m.lights.vpl_max_depth = s.get_int("vpl.max_depth", m.lights.vpl_max_depth);
     std::string glossy = s.get_string("vpl.glossy", "bsdf");
-    if (glossy != "bsdf" && glossy != "skip")
-        throw UsageError("vpl.glossy must be bsdf or skip, not " + glossy);
-    m.lights.vpl_glossy = glossy == "bsdf";
+    if (glossy == "bsdf")
+        m.lights.vpl_glossy = GlossyVpls::Bsdf;
+    else if (glossy == "diffuse")
+        m.lights.vpl_glossy = GlossyVpls::Diffuse;
+    else if (glossy == "skip")
+        m.lights.vpl_glossy = GlossyVpls::Skip;
+    else
+        throw UsageError("vpl.glossy must be bsdf, diffuse or skip, not " + glossy);
     m.lights.vpls = m.lights.vpl_count > 0;
     m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count);
     m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
