@@ -117,6 +117,10 @@ int run_render(const RenderArgs& a) {
         aov_files.emplace_back((p.parent_path() / p.stem()).string() + "." + name + ".exr",
                                &it->second);
     }
+    for (const auto& [name, img] : out.debug_images) {
+        std::filesystem::path p(output);
+        aov_files.emplace_back((p.parent_path() / p.stem()).string() + "." + name + ".exr", &img);
+    }
     write_image(output, out.image);
     for (auto& [file, img] : aov_files) write_image(file, *img);
 

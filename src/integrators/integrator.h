@@ -31,6 +31,9 @@ struct RenderResult {
     size_t point_lights = 0, vpls = 0;  // many-light integrators: the point-light set
     std::string extra_json;             // more --stats members, e.g. "\"lightcuts\": {...}"
     std::map<std::string, Image> aovs;  // extra images by name (e.g. "cutsize")
+    // Images always written beside the output as OUT.NAME.exr (debugging output an integrator
+    // was asked for through its settings, e.g. bdpt.strategy_images).
+    std::map<std::string, Image> debug_images;
 };
 
 class Integrator {

@@ -1,7 +1,9 @@
 #include "integrators/registry.h"
 
+#include "integrators/bdpt/bdpt.h"
 #include "integrators/direct/direct.h"
 #include "integrators/lightcuts/lightcuts.h"
+#include "integrators/lighttracer/lighttracer.h"
 #include "integrators/path/path.h"
 #include "integrators/vpl/vpl.h"
 #include "integrators/whitted/whitted.h"
@@ -24,6 +26,11 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<DirectIntegrator>},
         {"whitted", "Whitted ray tracing: mirrors, glass and direct light",
          make<WhittedIntegrator>},
+        {"lighttracer",
+         "light tracing: paths from the lights, each vertex splatted through the lens",
+         make<LightTracerIntegrator>},
+        {"bdpt", "bidirectional path tracing: every (s, t) strategy, power-heuristic MIS",
+         make<BdptIntegrator>},
         {"vpl", "instant radiosity: every point light and VPL summed with a shadow ray",
          make<VplIntegrator>},
         {"lightcuts", "Lightcuts: the vpl integrator's lights clustered, error-bounded cuts",

@@ -145,6 +145,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     fig.vpls = result.vpls;
     fig.extra_json = result.extra_json;
     out.aovs = std::move(result.aovs);
+    out.debug_images = std::move(result.debug_images);
     return out;
 }
 

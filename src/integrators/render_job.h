@@ -43,6 +43,8 @@ struct RenderFigures {
 struct RenderOutput {
     Image image;
     std::map<std::string, Image> aovs;  // extra images the integrator made, by name
+    // Images to write beside the output whatever --aov says (RenderResult::debug_images).
+    std::map<std::string, Image> debug_images;
     RenderFigures figures;
 };
 

@@ -1,0 +1,90 @@
+#include "integrators/bdpt/bdpt.h"
+
+#include <fmt/format.h>
+
+#include "core/stats.h"
+#include "integrators/bdpt/connect.h"
+#include "integrators/bdpt/subpaths.h"
+
+namespace ml {
+
+BdptIntegrator::BdptIntegrator(const Settings& settings) {
+    m_max_depth = settings.get_int("maxdepth", 5);
+    m_strategy_images = settings.get_bool("strategy_images", false);
+    m_light_sampler_name = settings.get_string("lightsampler", "power");
+    if (m_light_sampler_name == "bvh") m_light_sampler_name = "power";
+    settings.get_bool("regularize", false);  // accepted for pbrt-v4 scenes; no effect
+    if (m_max_depth < 0) throw UsageError("bdpt: maxdepth must be >= 0");
+    if (m_light_sampler_name != "power" && m_light_sampler_name != "uniform")
+        throw UsageError("bdpt: lightsampler must be power or uniform");
+    if (m_strategy_images && m_max_depth > 16)
+        throw UsageError("bdpt: strategy_images needs maxdepth <= 16 (one image per strategy)");
+}
+
+BdptIntegrator::~BdptIntegrator() = default;
+
+int BdptIntegrator::strategy_index(int s, int t) {
+    int depth = s + t - 2;
+    return s + depth * (5 + depth) / 2;
+}
+
+std::vector<std::string> BdptIntegrator::extra_images() const {
+    if (!m_strategy_images) return {};
+    std::vector<std::string> names(size_t(strategy_count(m_max_depth)));
+    for (int depth = 0; depth <= m_max_depth; ++depth)
+        for (int s = 0; s <= depth + 2; ++s) {
+            int t = depth + 2 - s;
+            if (t == 0 || (s == 1 && t == 1)) continue;
+            names[size_t(strategy_index(s, t))] = fmt::format("bdpt_s{}_t{}", s, t);
+        }
+    // Indices nobody uses ((1,1) and t = 0) get names too, so every image is written.
+    for (size_t i = 0; i < names.size(); ++i)
+        if (names[i].empty()) names[i] = fmt::format("bdpt_unused{}", i);
+    return names;
+}
+
+void BdptIntegrator::prepare(const RenderContext& ctx) {
+    m_light_sampler = std::make_unique<LightSampler>(m_light_sampler_name, ctx.scene.lights());
+    m_ctx = std::make_unique<BdptScene>(ctx.scene, ctx.camera, *m_light_sampler);
+}
+
+void BdptIntegrator::render_sample(const RenderContext& ctx, Point2i pixel, int index,
+                                   Sampler& sampler, ScratchBuffer& scratch,
+                                   SplatList& splats) const {
+    // The camera ray, as PixelIntegrator makes it.
+    FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
+    CameraSample cs;
+    cs.p_film = Vec2(pixel.x + 0.5f + fs.p.x, pixel.y + 0.5f + fs.p.y);
+    cs.time = sampler.get_1d();
+    cs.p_lens = sampler.get_2d();
+    Ray ray = ctx.camera.generate_ray(cs);
+    stats::count_camera_ray();
+
+    // Both subpaths, then every strategy of at most maxdepth bounces.
+    thread_local std::vector<PathVertex> camera_vertices, light_vertices;
+    camera_vertices.resize(size_t(m_max_depth) + 2);
+    light_vertices.resize(size_t(m_max_depth) + 1);
+    int nc = generate_camera_subpath(*m_ctx, ray, sampler, scratch, m_max_depth + 2,
+                                     camera_vertices.data());
+    int nl =
+        generate_light_subpath(*m_ctx, sampler, scratch, m_max_depth + 1, light_vertices.data());
+    RGB L;
+    for (int t = 1; t <= nc; ++t)
+        for (int s = 0; s <= nl; ++s) {
+            int depth = s + t - 2;
+            if ((s == 1 && t == 1) || depth < 0 || depth > m_max_depth) continue;
+            Connection c =
+                connect_bdpt(*m_ctx, light_vertices.data(), camera_vertices.data(), s, t, sampler);
+            if (c.L.is_black()) continue;
+            if (c.splat)
+                splats.add(c.p_raster, c.L);
+            else
+                L += c.L;
+            if (m_strategy_images)
+                splats.add(c.splat ? c.p_raster : Vec2(pixel.x + 0.5f, pixel.y + 0.5f),
+                           c.splat ? c.L : c.L * fs.weight, strategy_index(s, t));
+        }
+    ctx.film.add_sample(pixel, L, fs.weight);
+}
+
+}  // namespace ml

@@ -1,0 +1,64 @@
+#include "integrators/bdpt/bdpt_estimator.h"
+
+#include <vector>
+
+#include "integrators/bdpt/connect.h"
+#include "integrators/bdpt/subpaths.h"
+#include "lights/light_sampler.h"
+
+namespace ml {
+
+BdptEstimator::BdptEstimator(const Scene& scene, const PerspectiveCamera& camera,
+                             const std::string& light_sampler)
+    : m_scene(scene),
+      m_camera(camera),
+      m_light_sampler(std::make_unique<LightSampler>(light_sampler, scene.lights())) {}
+
+BdptEstimator::~BdptEstimator() = default;
+
+BdptPathSample BdptEstimator::sample_depth(
+    Sampler& sampler, int depth, ScratchBuffer& scratch,
+    const std::function<void(BdptStream)>& start_stream) const {
+    BdptPathSample out;
+    if (m_scene.lights().empty() || depth < 0) return out;
+    auto stream = [&](BdptStream s) {
+        if (start_stream) start_stream(s);
+    };
+    BdptScene ctx(m_scene, m_camera, *m_light_sampler);
+
+    // The strategy, uniformly among the depth + 2 that make paths of this depth.
+    stream(BdptStream::Camera);
+    int s = 0, t = 2, n_strategies = 1;
+    if (depth > 0) {
+        n_strategies = depth + 2;
+        s = std::min(int(sampler.get_1d() * float(n_strategies)), n_strategies - 1);
+        t = n_strategies - s;
+    }
+
+    // The camera subpath, exactly t vertices.
+    Vec2 u_film = sampler.get_pixel_2d();
+    CameraSample cs;
+    cs.p_film = Vec2(u_film.x * float(m_camera.width()), u_film.y * float(m_camera.height()));
+    cs.time = sampler.get_1d();
+    cs.p_lens = sampler.get_2d();
+    out.p_raster = cs.p_film;
+    Ray ray = m_camera.generate_ray(cs);
+    thread_local std::vector<PathVertex> camera_vertices, light_vertices;
+    camera_vertices.resize(size_t(t));
+    light_vertices.resize(size_t(std::max(s, 1)));
+    if (generate_camera_subpath(ctx, ray, sampler, scratch, t, camera_vertices.data()) != t)
+        return out;
+
+    // The light subpath, exactly s vertices.
+    stream(BdptStream::Light);
+    if (generate_light_subpath(ctx, sampler, scratch, s, light_vertices.data()) != s) return out;
+
+    // The connection.
+    stream(BdptStream::Connection);
+    Connection c = connect_bdpt(ctx, light_vertices.data(), camera_vertices.data(), s, t, sampler);
+    if (c.splat) out.p_raster = c.p_raster;
+    out.L = c.L * float(n_strategies);
+    return out;
+}
+
+}  // namespace ml

@@ -1,0 +1,94 @@
+#include "integrators/bdpt/path_vertex.h"
+
+#include "core/stats.h"
+
+namespace ml {
+
+float BdptScene::infinite_light_density(const Vec3& w) const {
+    float pdf = 0;
+    for (const Light* light : scene.infinite_lights())
+        pdf += light->pdf_li(LightSampleContext{}, -w, Vec3(), Vec3()) * light_sampler.pmf(light);
+    return pdf;
+}
+
+RGB PathVertex::Le(const BdptScene& ctx, const PathVertex& v) const {
+    if (!is_light()) return RGB();
+    Vec3 w = v.p() - p();
+    if (length_squared(w) == 0) return RGB();
+    w = normalize(w);
+    if (is_infinite_light()) {
+        // Radiance arriving at v from direction -w, from every infinite light.
+        RGB L;
+        for (const Light* light : ctx.scene.infinite_lights())
+            L += light->radiance_escaped(Ray{p(), -w});
+        return L;
+    }
+    const Light* e = emitter();
+    return e ? e->radiance(p(), ng(), si.uv, w) : RGB();
+}
+
+float PathVertex::pdf_area(const BdptScene& ctx, const PathVertex* prev,
+                           const PathVertex& next) const {
+    if (kind == VertexKind::Light) return pdf_light(ctx, next);
+    Vec3 wn = next.p() - p();
+    if (length_squared(wn) == 0) return 0;
+    wn = normalize(wn);
+    float pdf = 0;
+    if (kind == VertexKind::Camera) {
+        float pdf_pos;
+        ctx.camera.pdf_we(Ray{p(), wn}, &pdf_pos, &pdf);
+    } else {
+        if (!prev || !bsdf) return 0;
+        Vec3 wp = prev->p() - p();
+        if (length_squared(wp) == 0) return 0;
+        pdf = bsdf.pdf_solid_angle(normalize(wp), wn);
+    }
+    return convert_density(pdf, next);
+}
+
+float PathVertex::pdf_light(const BdptScene& ctx, const PathVertex& v) const {
+    Vec3 w = v.p() - p();
+    float d2 = length_squared(w);
+    if (d2 == 0) return 0;
+    w = w / std::sqrt(d2);
+    float pdf = 0;
+    if (is_infinite_light()) {
+        // Light paths from infinite lights start uniformly on a disk of the bounding sphere:
+        // a planar density, with no 1 / d^2.
+        if (ctx.scene_radius <= 0) return 0;
+        pdf = 1 / (kPi * sqr(ctx.scene_radius));
+    } else {
+        const Light* e = emitter();
+        if (!e) return 0;
+        float pdf_pos, pdf_dir;
+        e->pdf_le(Ray{p(), w}, ng(), &pdf_pos, &pdf_dir);
+        pdf = pdf_dir / d2;
+    }
+    if (v.on_surface()) pdf *= abs_dot(v.ng(), w);
+    return pdf;
+}
+
+float PathVertex::pdf_light_origin(const BdptScene& ctx, const PathVertex& v) const {
+    Vec3 w = v.p() - p();
+    if (length_squared(w) == 0) return 0;
+    w = normalize(w);
+    if (is_infinite_light()) return ctx.infinite_light_density(w);
+    const Light* e = emitter();
+    if (!e) return 0;
+    float pdf_pos, pdf_dir;
+    e->pdf_le(Ray{p(), w}, ng(), &pdf_pos, &pdf_dir);
+    return pdf_pos * ctx.light_sampler.pmf(e);
+}
+
+bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
+    // Points on surfaces (lights' included) are moved off them towards each other; the lens
+    // and point lights stay put.
+    auto origin = [](const PathVertex& v, const Vec3& towards) {
+        bool offset = v.kind != VertexKind::Camera && v.on_surface();
+        return offset ? v.si.offset_origin(towards - v.p()) : v.p();
+    };
+    Vec3 pa = origin(a, b.p()), pb = origin(b, a.p());
+    return !scene.occluded(Ray{pa, pb - pa, 1.f - 1e-4f});
+}
+
+}  // namespace ml

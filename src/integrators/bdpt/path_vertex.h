@@ -1,0 +1,131 @@
+// Vertices of bidirectional subpaths and the densities BDPT's MIS weights are made of (Veach's
+// thesis, chapter 10; pbrt-v4's Vertex). Every density stored on a vertex is per unit area at
+// that vertex, except where the vertex stands for an infinite light: there it is per solid angle.
+#pragma once
+
+#include "camera/camera.h"
+#include "geometry/interaction.h"
+#include "lights/light.h"
+#include "lights/light_sampler.h"
+#include "materials/bsdf.h"
+#include "scene/scene.h"
+
+namespace ml {
+
+// What the subpath machinery needs of the scene.
+struct BdptScene {
+    const Scene& scene;
+    const PerspectiveCamera& camera;
+    const LightSampler& light_sampler;  // chooses the light of light subpaths and of s = 1
+    Vec3 scene_center;                  // bounding sphere: infinite lights' ray origins
+    float scene_radius = 0;
+
+    BdptScene(const Scene& s, const PerspectiveCamera& c, const LightSampler& ls)
+        : scene(s), camera(c), light_sampler(ls) {
+        s.bounds().bounding_sphere(&scene_center, &scene_radius);
+    }
+    // Per-solid-angle density, summed over the infinite lights, of a light subpath starting
+    // with direction w (travelling away from the light).
+    float infinite_light_density(const Vec3& w) const;
+};
+
+enum class VertexKind : uint8_t { Camera, Light, Surface };
+
+struct PathVertex {
+    VertexKind kind = VertexKind::Surface;
+    // Sampled by a delta lobe here: no strategy can connect at this vertex.
+    bool delta = false;
+    RGB beta;  // the subpath's throughput up to and including this vertex (pbrt's beta)
+    // Density of this vertex when sampled from its predecessor on its own subpath (pdf_fwd),
+    // and from its successor, as the other subpath would have sampled it (pdf_rev).
+    float pdf_fwd = 0, pdf_rev = 0;
+    // Surfaces: the hit. Endpoints: p, and ng = ns (zero for points, directions and pinholes).
+    SurfaceInteraction si;
+    Bsdf bsdf;  // surfaces (empty on surfaces without a material: not connectible)
+    // Light endpoints: the light; null for the vertex of an escaped camera ray, which stands
+    // for every infinite light at once.
+    const Light* light = nullptr;
+
+    static PathVertex camera(const Vec3& p, const Vec3& n, const RGB& beta) {
+        PathVertex v;
+        v.kind = VertexKind::Camera;
+        v.si.p = p;
+        v.si.ng = v.si.ns = n;
+        v.beta = beta;
+        return v;
+    }
+    static PathVertex light_endpoint(const Light* light, const Vec3& p, const Vec3& n,
+                                     const RGB& beta, float pdf_fwd) {
+        PathVertex v;
+        v.kind = VertexKind::Light;
+        v.light = light;
+        v.si.p = p;
+        v.si.ng = v.si.ns = n;
+        v.beta = beta;
+        v.pdf_fwd = pdf_fwd;
+        return v;
+    }
+
+    const Vec3& p() const { return si.p; }
+    const Vec3& ng() const { return si.ng; }
+    const Vec3& ns() const { return si.ns; }
+    bool on_surface() const { return !(si.ng == Vec3()); }
+
+    bool is_connectible() const {
+        switch (kind) {
+            case VertexKind::Camera:
+                return true;
+            case VertexKind::Light:
+                return light && light->type() != LightType::DeltaDirection;
+            case VertexKind::Surface:
+                return bsdf && bsdf.has_nonspecular();
+        }
+        return false;
+    }
+    bool is_light() const {
+        return kind == VertexKind::Light || (kind == VertexKind::Surface && si.area_light);
+    }
+    bool is_delta_light() const {
+        return kind == VertexKind::Light && light && ml::is_delta_light(light->type());
+    }
+    bool is_infinite_light() const {
+        return kind == VertexKind::Light && (!light || light->type() == LightType::Infinite ||
+                                             light->type() == LightType::DeltaDirection);
+    }
+    // The emitter this vertex lies on (area lights hit by camera subpaths, light endpoints).
+    const Light* emitter() const { return kind == VertexKind::Light ? light : si.area_light; }
+
+    // BSDF value towards `next` (surfaces only).
+    RGB f(const PathVertex& next, TransportMode mode) const {
+        Vec3 wi = next.p() - p();
+        if (length_squared(wi) == 0 || kind != VertexKind::Surface || !bsdf) return RGB();
+        return bsdf.eval(si.wo, normalize(wi), mode);
+    }
+
+    // Radiance this light vertex emits towards `v`.
+    RGB Le(const BdptScene& ctx, const PathVertex& v) const;
+
+    // A solid-angle density at this vertex turned into the area density at `next`.
+    float convert_density(float pdf_solid_angle, const PathVertex& next) const {
+        if (next.is_infinite_light()) return pdf_solid_angle;
+        Vec3 w = next.p() - p();
+        float d2 = length_squared(w);
+        if (d2 == 0) return 0;
+        if (next.on_surface()) pdf_solid_angle *= abs_dot(next.ng(), w / std::sqrt(d2));
+        return pdf_solid_angle / d2;
+    }
+
+    // Area density at `next` of sampling it from this vertex, arrived at from `prev` (null for
+    // camera and light endpoints).
+    float pdf_area(const BdptScene& ctx, const PathVertex* prev, const PathVertex& next) const;
+    // Area density at `v` of a light subpath leaving this light vertex towards it.
+    float pdf_light(const BdptScene& ctx, const PathVertex& v) const;
+    // Area density (solid angle for infinite lights) of a light subpath starting at this
+    // light vertex and heading for `v`, light choice included.
+    float pdf_light_origin(const BdptScene& ctx, const PathVertex& v) const;
+};
+
+// True if nothing blocks the segment between two vertices (offset off both surfaces).
+bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
+
+}  // namespace ml

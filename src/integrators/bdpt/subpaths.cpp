@@ -1,0 +1,105 @@
+#include "integrators/bdpt/subpaths.h"
+
+#include "integrators/common.h"
+#include "materials/material.h"
+
+namespace ml {
+
+namespace {
+
+// Extends `path` (whose vertex -1 exists) by at most `max_vertices` vertices along `ray`;
+// `pdf_fwd` is the solid-angle density with which the previous vertex chose ray.d.
+int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& scratch, RGB beta,
+                float pdf_fwd, int max_vertices, TransportMode mode, PathVertex* path) {
+    if (max_vertices <= 0) return 0;
+    int n = 0;
+    while (true) {
+        if (beta.is_black() || !beta.is_finite()) break;
+        PathVertex& vertex = path[n];
+        PathVertex& prev = path[n - 1];
+        SurfaceInteraction si;
+        if (!ctx.scene.intersect(ray, &si)) {
+            // Camera rays that escape end on the infinite lights (one vertex for all of them).
+            if (mode == TransportMode::Radiance && !ctx.scene.infinite_lights().empty()) {
+                vertex = PathVertex::light_endpoint(nullptr, ray.o + ray.d, -ray.d, beta, pdf_fwd);
+                ++n;
+            }
+            break;
+        }
+        vertex = PathVertex();
+        vertex.kind = VertexKind::Surface;
+        vertex.si = si;
+        vertex.beta = beta;
+        vertex.bsdf = hit_bsdf(vertex.si, scratch);
+        vertex.pdf_fwd = prev.convert_density(pdf_fwd, vertex);
+        if (++n >= max_vertices || !vertex.bsdf) break;
+
+        // Sample the BSDF for the next direction; record the reverse density at prev.
+        float uc = sampler.get_1d();
+        Vec2 u = sampler.get_2d();
+        auto bs = vertex.bsdf.sample(si.wo, uc, u, mode);
+        if (!bs) break;
+        pdf_fwd = bs->pdf_solid_angle;
+        beta *= bs->f * (abs_dot(bs->wi, vertex.si.ns) / bs->pdf_solid_angle);
+        TransportMode other =
+            mode == TransportMode::Radiance ? TransportMode::Importance : TransportMode::Radiance;
+        float pdf_rev = vertex.bsdf.pdf_solid_angle(bs->wi, si.wo, other);
+        if (bs->is_specular()) {
+            vertex.delta = true;
+            pdf_fwd = pdf_rev = 0;
+        }
+        prev.pdf_rev = vertex.convert_density(pdf_rev, prev);
+        ray = spawn_ray(si, bs->wi);
+    }
+    return n;
+}
+
+}  // namespace
+
+int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampler,
+                            ScratchBuffer& scratch, int max_vertices, PathVertex* path) {
+    if (max_vertices <= 0) return 0;
+    // A pinhole is a point (no normal); a thin lens is a surface facing forwards, but the
+    // camera vertex is never the far end of a density conversion, so the normal is moot.
+    path[0] = PathVertex::camera(ray.o, Vec3(), RGB(1.f));
+    float pdf_pos, pdf_dir;
+    ctx.camera.pdf_we(ray, &pdf_pos, &pdf_dir);
+    return 1 + random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices - 1,
+                           TransportMode::Radiance, path + 1);
+}
+
+int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
+                           int max_vertices, PathVertex* path) {
+    if (max_vertices <= 0) return 0;
+    float u_select = sampler.get_1d();
+    Vec2 u_pos = sampler.get_2d();
+    Vec2 u_dir = sampler.get_2d();
+    auto sl = ctx.light_sampler.sample(u_select);
+    if (!sl || sl->pmf == 0) return 0;
+    auto les = sl->light->sample_le(u_pos, u_dir);
+    if (!les || les->pdf_pos == 0 || les->pdf_dir == 0 || les->L.is_black()) return 0;
+
+    // The light vertex: its density is the light choice times the position's.
+    float pdf_origin = sl->pmf * les->pdf_pos;
+    path[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, les->L, pdf_origin);
+    float cos_light = les->n_light == Vec3() ? 1.f : abs_dot(les->n_light, les->ray.d);
+    RGB beta = les->L * (cos_light / (pdf_origin * les->pdf_dir));
+    // Off the light's surface, to the side the ray leaves by (points stay where they are).
+    Ray ray = les->ray;
+    if (path[0].on_surface()) ray.o = path[0].si.offset_origin(ray.d);
+    int n = random_walk(ctx, ray, sampler, scratch, beta, les->pdf_dir, max_vertices - 1,
+                        TransportMode::Importance, path + 1);
+
+    // Infinite lights: the first hit's density is the disk's (planar, times its cosine), and
+    // the light vertex's is the direction's.
+    if (path[0].is_infinite_light()) {
+        if (n > 0) {
+            path[1].pdf_fwd = les->pdf_pos;
+            if (path[1].on_surface()) path[1].pdf_fwd *= abs_dot(ray.d, path[1].ng());
+        }
+        path[0].pdf_fwd = ctx.infinite_light_density(ray.d);
+    }
+    return n + 1;
+}
+
+}  // namespace ml

@@ -1,0 +1,23 @@
+// Camera and light subpaths for bidirectional estimators: random walks that record, at every
+// vertex, the throughput and the forward and reverse area densities MIS needs.
+#pragma once
+
+#include "core/scratch.h"
+#include "integrators/bdpt/path_vertex.h"
+#include "sampling/sampler.h"
+
+namespace ml {
+
+// Up to `max_vertices` vertices starting at the camera with `ray` (vertex 0 on the lens). Per
+// bounce: get_1d() (lobe), get_2d() (direction). Escaped rays end the path on a light vertex
+// standing for the infinite lights. Returns the vertex count.
+int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampler,
+                            ScratchBuffer& scratch, int max_vertices, PathVertex* path);
+
+// Up to `max_vertices` vertices starting on a light: get_1d() (which light), get_2d()
+// (position), get_2d() (direction), then per bounce get_1d(), get_2d(). Returns the vertex
+// count (0 when no light could emit).
+int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
+                           int max_vertices, PathVertex* path);
+
+}  // namespace ml

@@ -1,0 +1,37 @@
+// Light tracing (particle tracing, Arvo 1986; Veach's thesis, section 10.2, strategy t = 1):
+// paths start on the lights, and every vertex is joined to a point on the lens and splatted to
+// wherever it lands on the film. One light path per pixel sample (the pixel only seeds the
+// sampler), so `--spp N` traces N x width x height light paths.
+//
+// What it cannot see: light reaching the lens only through delta lobes (a mirror or glass seen
+// by the camera), point lights seen directly (a pinhole cannot be hit), and infinite lights seen
+// directly. Settings: maxdepth (5; bounces, as path's), lightsampler ("power" or "uniform").
+#pragma once
+
+#include <memory>
+
+#include "integrators/bdpt/path_vertex.h"
+#include "integrators/bdpt/splat_render.h"
+#include "integrators/settings.h"
+
+namespace ml {
+
+class LightTracerIntegrator final : public SplatIntegrator {
+public:
+    explicit LightTracerIntegrator(const Settings& settings);
+    ~LightTracerIntegrator() override;
+    std::string name() const override { return "lighttracer"; }
+
+protected:
+    void prepare(const RenderContext& ctx) override;
+    void render_sample(const RenderContext& ctx, Point2i pixel, int index, Sampler& sampler,
+                       ScratchBuffer& scratch, SplatList& splats) const override;
+
+private:
+    int m_max_depth;
+    std::string m_light_sampler_name;
+    std::unique_ptr<LightSampler> m_light_sampler;
+    std::unique_ptr<BdptScene> m_ctx;
+};
+
+}  // namespace ml

@@ -1,0 +1,85 @@
+// Light tracing: the white furnace, agreement with path on the Cornell box (area, point and spot
+// lights), and the same image for any thread count.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "bidir_test_helpers.h"
+
+using namespace ml;
+
+namespace {
+
+std::string furnace_scene(float albedo, float Le) {
+    return fmt::format(R"(
+LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" [ 60 ]
+Film "rgb" "integer xresolution" [ 24 ] "integer yresolution" [ 24 ]
+Sampler "independent"
+PixelFilter "box"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
+  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
+  Shape "sphere" "float radius" [ 3 ]
+AttributeEnd
+)",
+                       Le, albedo);
+}
+
+}  // namespace
+
+TEST(LightTracer, WhiteFurnaceHoldsAtEachDepth) {
+    // Depth d: Le (1 + a + ... + a^d); splats reach every pixel with their own noise.
+    for (int depth : {0, 3}) {
+        RenderOptions opt;
+        opt.integrator = "lighttracer";
+        opt.spp = 64;
+        opt.max_depth = depth;
+        opt.seed = 5;
+        Image img = test::render_text(furnace_scene(0.5f, 1.f), opt).image;
+        double expected = (1 - std::pow(0.5, depth + 1)) / 0.5;
+        for (int c = 0; c < 3; ++c) {
+            test::ChannelStats st = test::channel_stats(img, c);
+            EXPECT_NEAR(st.mean, expected, 5 * st.stderr_of_mean + 2e-3 * expected)
+                << "depth " << depth << " channel " << c;
+        }
+    }
+}
+
+TEST(LightTracer, AgreesWithPathOnTheCornellBox) {
+    std::string scene = test::cornell_variant();
+    auto lt = test::render_twice(scene, "lighttracer", 64, 4, 32);
+    auto pt = test::render_twice(scene, "path", 64, 4, 32);
+    test::expect_agreement(lt, pt, 8, "lighttracer vs path, area light");
+}
+
+TEST(LightTracer, AgreesWithPathUnderPointAndSpotLights) {
+    std::string point = R"(LightSource "point" "rgb I" [ 60000 50000 30000 ]
+  "point3 from" [ 278 500 279 ])";
+    std::string spot = R"(LightSource "spot" "rgb I" [ 150000 120000 80000 ]
+  "point3 from" [ 278 540 279 ] "point3 to" [ 278 0 279 ] "float coneangle" [ 40 ]
+  "float conedelta" [ 10 ])";
+    for (const std::string& light : {point, spot}) {
+        std::string scene = test::cornell_variant("", light);
+        auto lt = test::render_twice(scene, "lighttracer", 32, 3, 32);
+        auto pt = test::render_twice(scene, "path", 32, 3, 32);
+        test::expect_agreement(lt, pt, 8, "lighttracer vs path: " + light);
+    }
+}
+
+TEST(LightTracer, SameImageForAnyThreadCount) {
+    std::string scene = test::cornell_variant();
+    auto render = [&](int threads) {
+        RenderOptions opt;
+        opt.integrator = "lighttracer";
+        opt.spp = 4;
+        opt.max_depth = 3;
+        opt.width = opt.height = 32;
+        opt.threads = threads;
+        opt.seed = 3;
+        return test::render_text(scene, opt).image;
+    };
+    Image a = render(1), b = render(2);
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    for (size_t i = 0; i < a.pixels.size(); ++i) ASSERT_TRUE(a.pixels[i] == b.pixels[i]) << i;
+}
