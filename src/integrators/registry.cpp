@@ -5,6 +5,7 @@
 #include "integrators/lightcuts/lightcuts.h"
 #include "integrators/lighttracer/lighttracer.h"
 #include "integrators/path/path.h"
+#include "integrators/pssmlt/pssmlt.h"
 #include "integrators/vpl/vpl.h"
 #include "integrators/whitted/whitted.h"
 
@@ -31,6 +32,9 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<LightTracerIntegrator>},
         {"bdpt", "bidirectional path tracing: every (s, t) strategy, power-heuristic MIS",
          make<BdptIntegrator>},
+        {"pssmlt",
+         "primary-sample-space MLT (Kelemen): Metropolis chains over BDPT's paths of one depth",
+         make<PssmltIntegrator>},
         {"vpl", "instant radiosity: every point light and VPL summed with a shadow ray",
          make<VplIntegrator>},
         {"lightcuts", "Lightcuts: the vpl integrator's lights clustered, error-bounded cuts",
