@@ -135,3 +135,55 @@ TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
         EXPECT_EQ(number("violations"), 0);
     }
 }
+
+// A smooth coat over a diffuse floor: the gather point takes the base's light from the point
+// lights and the camera path also carries on through the coat's mirror lobe, where it sees the
+// area light itself. With emitters only (no VPLs), `vpl` and `lightcuts` must then match the
+// path tracer's direct light (maxdepth 1), the coat's reflection of the light included.
+TEST(Lightcuts, GatherFollowsTheDeltaLobeOfASmoothCoat) {
+    const std::string scene = R"(
+LookAt 0 1.2 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ 32 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
+  Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+  Shape "trianglemesh" "integer indices" [ 0 2 1 0 3 2 ]
+    "point3 P" [ -1 0.8 1  1 0.8 1  1 1.8 1.2  -1 1.8 1.2 ]
+AttributeEnd
+AttributeBegin
+  Material "coateddiffuse" "float roughness" [ 0 ] "rgb reflectance" [ 0.5 0.5 0.5 ]
+  Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
+    "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ]
+AttributeEnd
+)";
+    auto render = [&](const std::string& integrator, int spp) {
+        RenderOptions opt;
+        opt.integrator = integrator;
+        opt.spp = spp;
+        opt.seed = 7;
+        opt.max_depth = 1;
+        if (integrator != "path") {
+            opt.set["vpl.count"] = "0";
+            opt.set["lights.area_count"] = "1024";
+        }
+        return test::render_text(scene, opt).image;
+    };
+    Image ref = render("path", 256);
+    for (const char* integrator : {"vpl", "lightcuts"}) {
+        Image img = render(integrator, 16);
+        // The mean of the per-pixel differences and its standard error (pixel noise only,
+        // not the image's own variation).
+        double n = double(img.pixels.size()), sd = 0, sd2 = 0, sref = 0;
+        for (size_t i = 0; i < img.pixels.size(); ++i) {
+            double d = img.pixels[i].g - ref.pixels[i].g;
+            sd += d, sd2 += d * d, sref += ref.pixels[i].g;
+        }
+        double mean = sd / n, se = std::sqrt(std::max(0.0, sd2 / n - mean * mean) / (n - 1));
+        // Lightcuts' own error is within its 2% of each pixel.
+        EXPECT_NEAR(mean, 0, 4 * se + 0.02 * sref / n) << integrator;
+        std::printf("%s: mean difference %+.4f (reference mean %.4f, standard error %.4f)\n",
+                    integrator, mean, sref / n, se);
+    }
+}

@@ -5,27 +5,30 @@
 
 namespace ml {
 
-std::optional<GatherPoint> trace_to_gather_point(const Scene& scene, Ray ray, Sampler& sampler,
-                                                 ScratchBuffer& scratch, int max_depth, RGB* L) {
-    GatherPoint g;
-    g.beta = RGB(1.f);
-    for (int depth = 0;; ++depth) {
-        bool hit = scene.intersect(ray, &g.si);
-        // Only the camera ray and delta chains get here, so emission counts whole.
-        *L += g.beta * emission_along(scene, ray, hit ? &g.si : nullptr, true, 0.f, {}, nullptr);
-        if (!hit) return std::nullopt;
-        g.bsdf = hit_bsdf(g.si, scratch);
-        if (!g.bsdf) return std::nullopt;
-        if (g.bsdf.has_nonspecular()) return g;
-        if (depth == max_depth) return std::nullopt;
-        float uc = sampler.get_1d();
-        auto bs = g.bsdf.sample(g.si.wo, uc, sampler.get_2d());
-        if (!bs) return std::nullopt;
-        g.beta *= bs->f * (abs_dot(bs->wi, g.si.ns) / bs->pdf_solid_angle);
-        if (g.beta.is_black() || !g.beta.is_finite()) return std::nullopt;
-        ray = spawn_ray(g.si, bs->wi);
-    }
+namespace detail {
+
+bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch, const RGB& beta,
+                     RGB* L, GatherPoint* g) {
+    bool hit = scene.intersect(ray, &g->si);
+    // Only the camera ray and delta chains get here, so emission counts whole: the point lights
+    // stand for emitters seen through non-delta lobes only.
+    *L += beta * emission_along(scene, ray, hit ? &g->si : nullptr, true, 0.f, {}, nullptr);
+    if (!hit) return false;
+    g->bsdf = hit_bsdf(g->si, scratch);
+    return bool(g->bsdf);
 }
+
+bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray) {
+    float uc = sampler.get_1d();
+    auto bs = g.bsdf.sample(g.si.wo, uc, sampler.get_2d());
+    if (!bs || !bs->is_specular()) return false;
+    *beta *= bs->f * (abs_dot(bs->wi, g.si.ns) / bs->pdf_solid_angle);
+    if (beta->is_black() || !beta->is_finite()) return false;
+    *ray = spawn_ray(g.si, bs->wi);
+    return true;
+}
+
+}  // namespace detail
 
 bool point_light_contribution(const PointLightSet& set, const PointLight& pl, const GatherPoint& g,
                               RGB* value, Ray* shadow) {

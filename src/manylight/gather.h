@@ -7,6 +7,7 @@
 
 #include "core/scratch.h"
 #include "manylight/point_light.h"
+#include "materials/bsdf.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
 
@@ -18,14 +19,44 @@ struct GatherPoint {
     RGB beta;  // throughput of the delta chain that led here (1 for a direct hit)
 };
 
-// Follows `ray` through delta surfaces (mirrors, glass) for at most `max_depth` bounces, adding
-// the emission it sees to *L (times throughput), and returns the first non-delta hit.
-std::optional<GatherPoint> trace_to_gather_point(const Scene& scene, Ray ray, Sampler& sampler,
-                                                 ScratchBuffer& scratch, int max_depth, RGB* L);
+// The gather points of a camera path: it follows `ray` through delta surfaces (mirrors, glass)
+// for at most `max_depth` bounces, adding the emission it sees to *L (times throughput), and
+// calls shade(g) at every hit with a non-delta part, which returns the radiance the point lights
+// give there (times g.beta). A surface with both (a diffuse base under a smooth coat) is
+// gathered at and also continued through: its BSDF is sampled, and a delta sample carries the
+// path on (weighted by f / pdf, which counts the lobe's choice), while a non-delta one ends it,
+// since the gather has that part. Returns the radiance along `ray`.
+template <typename Shade>
+RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
+                 int max_depth, Shade&& shade);
 
 // What `pl` gives at the gather point without visibility: f(wo, wi) |cos| I / d^2 (directional:
 // f |cos| E), and the shadow ray that decides visibility. False when it gives nothing.
 bool point_light_contribution(const PointLightSet& set, const PointLight& pl, const GatherPoint& g,
                               RGB* value, Ray* shadow);
+
+// Implementation of gather_along: the next hit along a delta chain, in gather.cpp.
+namespace detail {
+// The surface hit by `ray` and its BSDF (false when the ray escapes or hits no material); adds
+// the emission met to *L times beta.
+bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch, const RGB& beta,
+                     RGB* L, GatherPoint* g);
+// Samples g's BSDF: true with the new ray and throughput when the sample is a delta lobe.
+bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray);
+}  // namespace detail
+
+template <typename Shade>
+RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
+                 int max_depth, Shade&& shade) {
+    RGB L, beta(1.f);
+    GatherPoint g;
+    for (int depth = 0;; ++depth) {
+        if (!detail::next_gather_hit(scene, ray, scratch, beta, &L, &g)) return L;
+        g.beta = beta;
+        if (g.bsdf.has_nonspecular()) L += shade(g);
+        if (depth == max_depth || !(g.bsdf.flags() & kBxdfSpecular)) return L;
+        if (!detail::continue_through_delta(g, sampler, &beta, &ray)) return L;
+    }
+}
 
 }  // namespace ml

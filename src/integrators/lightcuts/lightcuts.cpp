@@ -85,22 +85,22 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
 
 RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
                             ScratchBuffer& scratch, Point2i pixel) const {
-    RGB L;
-    auto g = trace_to_gather_point(scene, ray, sampler, scratch, m_settings.max_depth, &L);
-    if (!g) return L;
-    int cut_size = 0;
-    L += shade(scene, *g, &cut_size);
-    m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
-    m_gather_points.fetch_add(1, std::memory_order_relaxed);
-    int prev = m_cut_max.load(std::memory_order_relaxed);
-    while (cut_size > prev && !m_cut_max.compare_exchange_weak(prev, cut_size)) {
-    }
     size_t i = size_t(pixel.y) * m_width + pixel.x;
-    if (i < m_pixel_cut.size()) {
-        m_pixel_cut[i] += float(cut_size);
-        ++m_pixel_samples[i];
-    }
-    return L;
+    return gather_along(
+        scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g) {
+            int cut_size = 0;
+            RGB c = shade(scene, g, &cut_size);
+            m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
+            m_gather_points.fetch_add(1, std::memory_order_relaxed);
+            int prev = m_cut_max.load(std::memory_order_relaxed);
+            while (cut_size > prev && !m_cut_max.compare_exchange_weak(prev, cut_size)) {
+            }
+            if (i < m_pixel_cut.size()) {
+                m_pixel_cut[i] += float(cut_size);
+                ++m_pixel_samples[i];
+            }
+            return c;
+        });
 }
 
 RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cut_size) const {

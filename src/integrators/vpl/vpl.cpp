@@ -45,17 +45,18 @@ RenderResult VplIntegrator::render(const RenderContext& ctx) {
 
 RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
                       Point2i pixel) const {
-    RGB L;
-    auto g = trace_to_gather_point(scene, ray, sampler, scratch, m_settings.max_depth, &L);
-    if (!g) return L;
-    for (const PointLight& pl : m_set.lights) {
-        RGB c;
-        Ray shadow;
-        if (!point_light_contribution(m_set, pl, *g, &c, &shadow)) continue;
-        c = m_settings.clamped(c, pl.is_vpl);
-        if (!scene.occluded(shadow)) L += c;
-    }
-    return L;
+    return gather_along(scene, ray, sampler, scratch, m_settings.max_depth,
+                        [&](const GatherPoint& g) {
+                            RGB L;
+                            for (const PointLight& pl : m_set.lights) {
+                                RGB c;
+                                Ray shadow;
+                                if (!point_light_contribution(m_set, pl, g, &c, &shadow)) continue;
+                                c = m_settings.clamped(c, pl.is_vpl);
+                                if (!scene.occluded(shadow)) L += c;
+                            }
+                            return L;
+                        });
 }
 
 }  // namespace ml
