@@ -84,6 +84,37 @@ TEST(Bdpt, AgreesWithPathThroughGlassAndMirrors) {
     test::expect_agreement(b, p, 8, "bdpt vs path, glass and mirror");
 }
 
+TEST(Bdpt, AgreesWithPathUnderEnvironmentAndDistantLights) {
+    // Infinite lights: escaped camera rays (s = 0), light subpaths from the scene's bounding
+    // disk, and their densities per solid angle; a distant light is a delta direction.
+    for (const std::string light :
+         {R"(LightSource "infinite" "rgb L" [ 0.8 0.9 1.0 ])",
+          R"(LightSource "distant" "point3 from" [ 1 3 2 ] "point3 to" [ 0 0 0 ]
+               "rgb L" [ 3 3 2.5 ])"}) {
+        std::string scene = fmt::format(R"(
+LookAt 0 1.5 5  0 0.4 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ 32 ]
+Sampler "independent"
+PixelFilter "box"
+WorldBegin
+{}
+Material "diffuse" "rgb reflectance" [ 0.6 0.5 0.4 ]
+Shape "trianglemesh" "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ]
+  "integer indices" [ 0 1 2 0 2 3 ]
+AttributeBegin
+  Translate 0 0.6 0
+  Material "diffuse" "rgb reflectance" [ 0.3 0.6 0.3 ]
+  Shape "sphere" "float radius" [ 0.6 ]
+AttributeEnd
+)",
+                                        light);
+        auto b = test::render_twice(scene, "bdpt", 32, 4, 32);
+        auto p = test::render_twice(scene, "path", 64, 4, 32);
+        test::expect_agreement(b, p, 8, "bdpt vs path: " + light);
+    }
+}
+
 namespace {
 
 // The scene, camera and light sampler of a scene text, for direct use of the BDPT pieces.

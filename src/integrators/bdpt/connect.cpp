@@ -1,19 +1,21 @@
 #include "integrators/bdpt/connect.h"
 
+#include <optional>
 #include <utility>
 
 namespace ml {
 
 namespace {
 
-// Sets a value for the rest of the scope, then puts the old one back.
+// Sets a value for the rest of the scope, then puts the old one back. The old value is kept in
+// an optional, so an unused Scoped<PathVertex> costs no zeroed vertex.
 template <typename T>
 class Scoped {
 public:
     Scoped() = default;
     Scoped(T* target, T value) : m_target(target) {
         if (m_target) {
-            m_saved = std::move(*target);
+            m_saved.emplace(std::move(*target));
             *target = std::move(value);
         }
     }
@@ -28,11 +30,11 @@ public:
 
 private:
     void restore() {
-        if (m_target) *m_target = std::move(m_saved);
+        if (m_target) *m_target = std::move(*m_saved);
         m_target = nullptr;
     }
     T* m_target = nullptr;
-    T m_saved{};
+    std::optional<T> m_saved;
 };
 
 // The geometry term between two vertices (shading cosines), times their visibility.
@@ -107,7 +109,8 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
     if (t > 1 && s != 0 && camera_vertices[t - 1].kind == VertexKind::Light) return c;
 
     RGB L;
-    PathVertex sampled;
+    // The vertex sampled anew for s = 1 and t = 1, made only then (a vertex is large).
+    std::optional<PathVertex> sampled;
     if (s == 0) {
         // The camera subpath alone, ending on an emitter.
         const PathVertex& pt = camera_vertices[t - 1];
@@ -124,9 +127,9 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                 c.p_raster = cs->p_raster;
                 sampled =
                     PathVertex::camera(cs->p_lens, cs->n_lens, RGB(cs->We / cs->pdf_solid_angle));
-                L = qs.beta * qs.f(sampled, TransportMode::Importance) * sampled.beta *
+                L = qs.beta * qs.f(*sampled, TransportMode::Importance) * sampled->beta *
                     abs_dot(cs->wi, qs.ns());
-                if (!L.is_black() && !mutually_visible(ctx.scene, qs, sampled)) L = RGB();
+                if (!L.is_black() && !mutually_visible(ctx.scene, qs, *sampled)) L = RGB();
             }
         }
     } else if (s == 1) {
@@ -142,10 +145,10 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                     sampled =
                         PathVertex::light_endpoint(sl->light, ls->p_light, ls->n_light,
                                                    ls->L / (ls->pdf_solid_angle * sl->pmf), 0);
-                    sampled.pdf_fwd = sampled.pdf_light_origin(ctx, pt);
-                    L = pt.beta * pt.f(sampled, TransportMode::Radiance) * sampled.beta *
+                    sampled->pdf_fwd = sampled->pdf_light_origin(ctx, pt);
+                    L = pt.beta * pt.f(*sampled, TransportMode::Radiance) * sampled->beta *
                         abs_dot(ls->wi, pt.ns());
-                    if (!L.is_black() && !mutually_visible(ctx.scene, pt, sampled)) L = RGB();
+                    if (!L.is_black() && !mutually_visible(ctx.scene, pt, *sampled)) L = RGB();
                 }
             }
         }
@@ -160,7 +163,8 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
         }
     }
     if (L.is_black() || !L.is_finite()) return c;
-    c.mis_weight = mis_weight(ctx, light_vertices, camera_vertices, sampled, s, t);
+    c.mis_weight = mis_weight(ctx, light_vertices, camera_vertices,
+                              sampled ? *sampled : camera_vertices[0], s, t);
     c.L = L * c.mis_weight;
     return c;
 }

@@ -17,8 +17,8 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
         if (beta.is_black() || !beta.is_finite()) break;
         PathVertex& vertex = path[n];
         PathVertex& prev = path[n - 1];
-        SurfaceInteraction si;
-        if (!ctx.scene.intersect(ray, &si)) {
+        // Intersect straight into the vertex (no zeroed temporary: this is the hot loop).
+        if (!ctx.scene.intersect(ray, &vertex.si)) {
             // Camera rays that escape end on the infinite lights (one vertex for all of them).
             if (mode == TransportMode::Radiance && !ctx.scene.infinite_lights().empty()) {
                 vertex = PathVertex::light_endpoint(nullptr, ray.o + ray.d, -ray.d, beta, pdf_fwd);
@@ -26,9 +26,10 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
             }
             break;
         }
-        vertex = PathVertex();
         vertex.kind = VertexKind::Surface;
-        vertex.si = si;
+        vertex.delta = false;
+        vertex.light = nullptr;
+        vertex.pdf_rev = 0;
         vertex.beta = beta;
         vertex.bsdf = hit_bsdf(vertex.si, scratch);
         vertex.pdf_fwd = prev.convert_density(pdf_fwd, vertex);
@@ -37,19 +38,19 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
         // Sample the BSDF for the next direction; record the reverse density at prev.
         float uc = sampler.get_1d();
         Vec2 u = sampler.get_2d();
-        auto bs = vertex.bsdf.sample(si.wo, uc, u, mode);
+        auto bs = vertex.bsdf.sample(vertex.si.wo, uc, u, mode);
         if (!bs) break;
         pdf_fwd = bs->pdf_solid_angle;
         beta *= bs->f * (abs_dot(bs->wi, vertex.si.ns) / bs->pdf_solid_angle);
         TransportMode other =
             mode == TransportMode::Radiance ? TransportMode::Importance : TransportMode::Radiance;
-        float pdf_rev = vertex.bsdf.pdf_solid_angle(bs->wi, si.wo, other);
+        float pdf_rev = vertex.bsdf.pdf_solid_angle(bs->wi, vertex.si.wo, other);
         if (bs->is_specular()) {
             vertex.delta = true;
             pdf_fwd = pdf_rev = 0;
         }
         prev.pdf_rev = vertex.convert_density(pdf_rev, prev);
-        ray = spawn_ray(si, bs->wi);
+        ray = spawn_ray(vertex.si, bs->wi);
     }
     return n;
 }
