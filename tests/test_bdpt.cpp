@@ -9,6 +9,7 @@
 #include "integrators/bdpt/bdpt_estimator.h"
 #include "integrators/bdpt/connect.h"
 #include "integrators/bdpt/subpaths.h"
+#include "integrators/settings.h"
 #include "lights/light_sampler.h"
 #include "materials/material.h"
 #include "sampling/sampler.h"
@@ -309,4 +310,24 @@ TEST(Bdpt, PathOfDepthEstimatorMatchesTheImage) {
         double ref_se = std::abs(r1.mean - r2.mean);  // a crude but honest noise scale
         EXPECT_NEAR(mean, ref_mean, 5 * std::sqrt(se * se + ref_se * ref_se)) << "channel " << c;
     }
+}
+
+TEST(Bdpt, BadSettingsAreUsageErrors) {
+    for (auto [key, value] : {std::pair<std::string, std::string>{"bdpt.maxdepth", "-1"},
+                              {"bdpt.lightsampler", "bvhx"},
+                              {"bdpt.strategy_images", "maybe"},
+                              {"bdpt.nosuchkey", "1"}}) {
+        RenderOptions opt;
+        opt.integrator = "bdpt";
+        opt.spp = 1;
+        opt.width = opt.height = 8;
+        opt.set[key] = value;
+        EXPECT_THROW(test::render_text(test::cornell_variant(), opt), UsageError) << key;
+    }
+    RenderOptions opt;
+    opt.integrator = "lighttracer";
+    opt.spp = 1;
+    opt.width = opt.height = 8;
+    opt.set["lighttracer.maxdepth"] = "-2";
+    EXPECT_THROW(test::render_text(test::cornell_variant(), opt), UsageError);
 }

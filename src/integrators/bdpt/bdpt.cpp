@@ -11,6 +11,9 @@ namespace ml {
 BdptIntegrator::BdptIntegrator(const Settings& settings) {
     m_max_depth = settings.get_int("maxdepth", 5);
     m_strategy_images = settings.get_bool("strategy_images", false);
+    // pbrt-v4's names for its per-strategy images (weighted or not): the same images here.
+    if (settings.get_bool("visualizestrategies", false)) m_strategy_images = true;
+    if (settings.get_bool("visualizeweights", false)) m_strategy_images = true;
     m_light_sampler_name = settings.get_string("lightsampler", "power");
     if (m_light_sampler_name == "bvh") m_light_sampler_name = "power";
     settings.get_bool("regularize", false);  // accepted for pbrt-v4 scenes; no effect

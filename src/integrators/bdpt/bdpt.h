@@ -6,7 +6,8 @@
 // Settings: maxdepth (5; bounces, as path's), lightsampler ("power" or "uniform"), regularize
 // (accepted for pbrt-v4 scenes; no effect), strategy_images (false): when true, one more image
 // per strategy, bdpt_s{S}_t{T}, written beside the output as OUT.bdpt_s{S}_t{T}.exr, holding
-// that strategy's MIS-weighted contribution (they sum to the image, up to the pixel filter).
+// that strategy's MIS-weighted contribution (they add up to the image); pbrt-v4's
+// visualizestrategies and visualizeweights ask for the same images.
 #pragma once
 
 #include <memory>
