@@ -131,3 +131,54 @@ void expect_plane(const std::string& integrator) {
 TEST(RenderPointOverPlane, Path) { expect_plane("path"); }
 TEST(RenderPointOverPlane, Direct) { expect_plane("direct"); }
 TEST(RenderPointOverPlane, Whitted) { expect_plane("whitted"); }
+
+// Light selection and MIS: the path tracer picks one light by power for next-event estimation,
+// so the light strategy's density is pmf * pdf, and the BSDF strategy's weight and the light
+// strategy's must both use it or their weights no longer sum to one. A rough metal floor
+// reflects a dim light while a bright one, 50 times the power, lights it from the side: with
+// power sampling the dim light is rarely picked, which is where a weight without the pmf
+// counts its reflection almost twice. Power and uniform selection must agree.
+TEST(RenderLightSelection, PowerAndUniformAgreeOnAGlossyFloor) {
+    const std::string scene = R"(
+LookAt 0 1 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 24 ] "integer yresolution" [ 24 ]
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 1 1 1 ]
+  Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+  Shape "trianglemesh" "integer indices" [ 0 2 1 0 3 2 ]
+    "point3 P" [ -1 0.5 1  1 0.5 1  1 1.5 1.2  -1 1.5 1.2 ]
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 50 50 50 ]
+  Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+  Shape "trianglemesh" "integer indices" [ 0 2 1 0 3 2 ]
+    "point3 P" [ 3 3 -1  3 3 1  3 1 1  3 1 -1 ]
+AttributeEnd
+AttributeBegin
+  Material "conductor" "float roughness" [ 0.15 ] "spectrum eta" "metal-Ag-eta"
+    "spectrum k" "metal-Ag-k"
+  Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
+    "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ]
+AttributeEnd
+)";
+    auto render = [&](const std::string& light_sampler, uint64_t seed) {
+        RenderOptions opt;
+        opt.integrator = "path";
+        opt.spp = 256;
+        opt.seed = seed;
+        opt.max_depth = 1;
+        opt.set["path.lightsampler"] = light_sampler;
+        return test::render_text(scene, opt).image;
+    };
+    Image power = render("power", 1), uniform = render("uniform", 2);
+    double n = double(power.pixels.size()), sd = 0, sd2 = 0, sref = 0;
+    for (size_t i = 0; i < power.pixels.size(); ++i) {
+        double d = power.pixels[i].g - uniform.pixels[i].g;
+        sd += d, sd2 += d * d, sref += uniform.pixels[i].g;
+    }
+    double mean = sd / n, se = std::sqrt(std::max(0.0, sd2 / n - mean * mean) / (n - 1));
+    std::printf("power - uniform: %+.5f (mean %.4f, standard error %.5f)\n", mean, sref / n, se);
+    EXPECT_NEAR(mean, 0.0, 4 * se);
+}

@@ -34,9 +34,11 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
                    const LightSampler* light_sampler);
 
 // Radiance from `light` towards the surface, one light sample, weighted by MIS against BSDF
-// sampling unless `mis` is false (delta lights take no weight). Excludes the light-selection
-// probability.
+// sampling unless `mis` is false (delta lights take no weight). `light_pmf` is the probability
+// that the caller chose this light: the light strategy's density is pmf * pdf, as in the weight
+// emission_along gives the BSDF strategy. The result is not divided by it (the caller does).
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
-                    const Light& light, const Vec2& u_light, bool mis = true);
+                    const Light& light, const Vec2& u_light, bool mis = true,
+                    float light_pmf = 1.f);
 
 }  // namespace ml

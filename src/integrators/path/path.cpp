@@ -45,7 +45,8 @@ RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampl
         Vec2 u_light = sampler.get_2d();
         if (bsdf.has_nonspecular()) {
             if (auto sl = m_light_sampler->sample(u_select))
-                L += beta * estimate_direct(scene, si, bsdf, *sl->light, u_light) / sl->pmf;
+                L += beta * estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf) /
+                     sl->pmf;
         }
 
         // Continue the path by sampling the BSDF.
