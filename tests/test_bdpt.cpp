@@ -116,6 +116,19 @@ AttributeEnd
     }
 }
 
+TEST(Bdpt, AgreesWithPathThroughAThinLens) {
+    // Depth of field: t = 1 strategies sample the lens, camera importance spreads over it.
+    std::string scene = test::cornell_variant();
+    size_t at = scene.find("\"float fov\" [ 39.3077 ]");
+    ASSERT_NE(at, std::string::npos);
+    scene.insert(at, "\"float lensradius\" [ 25 ] \"float focaldistance\" [ 1000 ] ");
+    auto p = test::render_twice(scene, "path", 64, 4, 32);
+    auto b = test::render_twice(scene, "bdpt", 32, 4, 32);
+    test::expect_agreement(b, p, 8, "bdpt vs path, thin lens");
+    auto l = test::render_twice(scene, "lighttracer", 64, 4, 32);
+    test::expect_agreement(l, p, 8, "lighttracer vs path, thin lens");
+}
+
 namespace {
 
 // The scene, camera and light sampler of a scene text, for direct use of the BDPT pieces.
