@@ -4,6 +4,7 @@
 #include "integrators/direct/direct.h"
 #include "integrators/lightcuts/lightcuts.h"
 #include "integrators/lighttracer/lighttracer.h"
+#include "integrators/mlt/mlt.h"
 #include "integrators/path/path.h"
 #include "integrators/pssmlt/pssmlt.h"
 #include "integrators/vpl/vpl.h"
@@ -32,6 +33,10 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<LightTracerIntegrator>},
         {"bdpt", "bidirectional path tracing: every (s, t) strategy, power-heuristic MIS",
          make<BdptIntegrator>},
+        {"mlt",
+         "Metropolis light transport in path space (Veach): bidirectional mutations, lens and "
+         "caustic perturbations",
+         make<MltIntegrator>},
         {"pssmlt",
          "primary-sample-space MLT (Kelemen): Metropolis chains over BDPT's paths of one depth",
          make<PssmltIntegrator>},

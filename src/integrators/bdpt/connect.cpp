@@ -1,21 +1,25 @@
 #include "integrators/bdpt/connect.h"
 
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace ml {
 
 namespace {
 
-// Sets a value for the rest of the scope, then puts the old one back. The old value is kept in
-// an optional, so an unused Scoped<PathVertex> costs no zeroed vertex.
+// Sets a value for the rest of the scope, then puts the old one back. A large old value (a
+// vertex) is kept in an optional, so an unused Scoped<PathVertex> costs no zeroed vertex.
 template <typename T>
 class Scoped {
+    static constexpr bool kSmall = std::is_trivially_copyable_v<T> && sizeof(T) <= 8;
+    using Saved = std::conditional_t<kSmall, T, std::optional<T>>;
+
 public:
     Scoped() = default;
     Scoped(T* target, T value) : m_target(target) {
         if (m_target) {
-            m_saved.emplace(std::move(*target));
+            m_saved = std::move(*target);
             *target = std::move(value);
         }
     }
@@ -30,11 +34,15 @@ public:
 
 private:
     void restore() {
-        if (m_target) *m_target = std::move(*m_saved);
+        if (!m_target) return;
+        if constexpr (kSmall)
+            *m_target = m_saved;
+        else
+            *m_target = std::move(*m_saved);
         m_target = nullptr;
     }
     T* m_target = nullptr;
-    std::optional<T> m_saved;
+    Saved m_saved{};
 };
 
 // The geometry term between two vertices (shading cosines), times their visibility.
@@ -53,7 +61,7 @@ float geometry(const Scene& scene, const PathVertex& a, const PathVertex& b) {
 }  // namespace
 
 float mis_weight(const BdptScene& ctx, PathVertex* light_vertices, PathVertex* camera_vertices,
-                 const PathVertex& sampled, int s, int t) {
+                 const PathVertex& sampled, int s, int t, bool balance) {
     if (s + t == 2) return 1;
     // Zero densities stand for delta distributions: they cancel between numerator and
     // denominator, so they count as one.
@@ -85,25 +93,27 @@ float mis_weight(const BdptScene& ctx, PathVertex* light_vertices, PathVertex* c
     if (qs_minus) a7 = Scoped<float>(&qs_minus->pdf_rev, qs->pdf_area(ctx, pt, *qs_minus));
 
     // Ratios p_i / p_s of the other strategies' densities, walking away from the connection
-    // along each subpath (power heuristic: squared).
+    // along each subpath (squared for the power heuristic).
     float sum = 0;
     float ri = 1;
     for (int i = t - 1; i > 0; --i) {
         ri *= remap0(camera_vertices[i].pdf_rev) / remap0(camera_vertices[i].pdf_fwd);
-        if (!camera_vertices[i].delta && !camera_vertices[i - 1].delta) sum += ri * ri;
+        if (!camera_vertices[i].delta && !camera_vertices[i - 1].delta)
+            sum += balance ? ri : ri * ri;
     }
     ri = 1;
     for (int i = s - 1; i >= 0; --i) {
         ri *= remap0(light_vertices[i].pdf_rev) / remap0(light_vertices[i].pdf_fwd);
         bool delta_before =
             i > 0 ? light_vertices[i - 1].delta : light_vertices[0].is_delta_light();
-        if (!light_vertices[i].delta && !delta_before) sum += ri * ri;
+        if (!light_vertices[i].delta && !delta_before) sum += balance ? ri : ri * ri;
     }
     return 1 / (1 + sum);
 }
 
 Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
-                        PathVertex* camera_vertices, int s, int t, Sampler& sampler) {
+                        PathVertex* camera_vertices, int s, int t, Sampler& sampler,
+                        PathVertex* sampled_out) {
     Connection c;
     // A camera subpath ending on an infinite light connects to nothing.
     if (t > 1 && s != 0 && camera_vertices[t - 1].kind == VertexKind::Light) return c;
@@ -163,6 +173,7 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
         }
     }
     if (L.is_black() || !L.is_finite()) return c;
+    if (sampled_out && sampled) *sampled_out = *sampled;
     c.mis_weight = mis_weight(ctx, light_vertices, camera_vertices,
                               sampled ? *sampled : camera_vertices[0], s, t);
     c.L = L * c.mis_weight;

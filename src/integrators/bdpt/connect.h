@@ -17,14 +17,17 @@ struct Connection {
 
 // Strategy (s, t): s light vertices, t camera vertices (s + t >= 2, t >= 1). Draws from the
 // sampler only for s == 1 (get_1d() light, get_2d() point on it) and t == 1 (get_2d() lens).
-// The vertex arrays are modified during the call and restored before it returns.
+// The vertex arrays are modified during the call and restored before it returns. The vertex
+// sampled anew (s == 1, t == 1) is copied to `sampled_out` when given.
 Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
-                        PathVertex* camera_vertices, int s, int t, Sampler& sampler);
+                        PathVertex* camera_vertices, int s, int t, Sampler& sampler,
+                        PathVertex* sampled_out = nullptr);
 
-// Power-heuristic weight of strategy (s, t) for the path it made. `sampled` is the vertex the
-// strategy sampled anew (the light point for s == 1, the lens point for t == 1), else unused.
-// The arrays are modified during the call and restored before it returns.
+// Power-heuristic weight of strategy (s, t) for the path it made (the balance heuristic when
+// `balance`: p_s over the sum of every strategy's density). `sampled` is the vertex the strategy
+// sampled anew (the light point for s == 1, the lens point for t == 1), else unused. The arrays
+// are modified during the call and restored before it returns.
 float mis_weight(const BdptScene& ctx, PathVertex* light_vertices, PathVertex* camera_vertices,
-                 const PathVertex& sampled, int s, int t);
+                 const PathVertex& sampled, int s, int t, bool balance = false);
 
 }  // namespace ml

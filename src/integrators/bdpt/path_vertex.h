@@ -42,6 +42,9 @@ struct PathVertex {
     // Surfaces: the hit. Endpoints: p, and ng = ns (zero for points, directions and pinholes).
     SurfaceInteraction si;
     Bsdf bsdf;  // surfaces (empty on surfaces without a material: not connectible)
+    // Surfaces: the shading normal of the hit before the material tilted it (bump mapping), so
+    // that the BSDF can be made again elsewhere.
+    Vec3 ns_hit;
     // Light endpoints: the light; null for the vertex of an escaped camera ray, which stands
     // for every infinite light at once.
     const Light* light = nullptr;

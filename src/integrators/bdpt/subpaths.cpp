@@ -31,6 +31,7 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
         vertex.light = nullptr;
         vertex.pdf_rev = 0;
         vertex.beta = beta;
+        vertex.ns_hit = vertex.si.ns;
         vertex.bsdf = hit_bsdf(vertex.si, scratch);
         vertex.pdf_fwd = prev.convert_density(pdf_fwd, vertex);
         if (++n >= max_vertices || !vertex.bsdf) break;

@@ -1,0 +1,203 @@
+#include "integrators/mlt/mlt.h"
+
+#include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+
+#include "core/rng.h"
+#include "integrators/mlt/mutations.h"
+#include "lights/light_sampler.h"
+
+namespace ml {
+
+MltIntegrator::MltIntegrator(const Settings& settings) {
+    m_max_depth = settings.get_int("maxdepth", 5);
+    m_bootstrap = settings.get_int("bootstrap", 100000);
+    m_chains = settings.get_int("chains", 256);
+    m_bidirectional_prob = settings.get_float("bidirectional_prob", 0.3f);
+    m_lens_prob = settings.get_float("lens_prob", 0.4f);
+    if (m_max_depth < 0) throw UsageError("mlt: maxdepth must be >= 0");
+    if (m_bootstrap < 1 || m_chains < 1) throw UsageError("mlt: bootstrap and chains must be >= 1");
+    if (!(m_bidirectional_prob > 0 && m_lens_prob >= 0 && m_bidirectional_prob + m_lens_prob <= 1))
+        throw UsageError(
+            "mlt: bidirectional_prob must be > 0, lens_prob >= 0, and their sum at most 1");
+}
+
+namespace {
+
+// Streams of the chains' sampler: bootstrap paths and chain mutations never share numbers.
+constexpr int kBootstrapRow = 1 << 20;
+
+// The render's seed, read through its sampler: the first numbers of pixel (0, 0).
+uint64_t seed_from(const Sampler& prototype) {
+    auto s = prototype.clone();
+    s->start_pixel_sample(Point2i{0, 0}, 0, 0);
+    uint64_t a = uint64_t(s->get_1d() * 16777216.f), c = uint64_t(s->get_1d() * 16777216.f);
+    return hash_ints(a, c);
+}
+
+float importance_of(const RGB& c) {
+    float y = c.luminance();
+    return std::isfinite(y) && y > 0 ? y : 0.f;
+}
+
+struct Splat {
+    uint32_t pixel;
+    RGB v;
+};
+
+// One chain: its current path (BSDFs in one of two scratch buffers; proposals are made in the
+// other, and the buffers trade places when a proposal is accepted).
+struct Chain {
+    MltPath x;
+    RGB colour;        // f(x) / luminance(f(x))
+    RGB W;             // f(x) / q(x), black when not known
+    int64_t next = 0;  // index of the next mutation
+    int64_t accepted = 0;
+    std::unique_ptr<ScratchBuffer> current, spare;
+};
+
+}  // namespace
+
+RenderResult MltIntegrator::render(const RenderContext& ctx) {
+    for (const auto& l : ctx.scene.lights())
+        if (l->type() == LightType::Infinite || l->type() == LightType::DeltaDirection)
+            throw UsageError("mlt: environment and distant lights are not supported");
+    const int w = ctx.film.width(), h = ctx.film.height();
+    const int64_t pixels = int64_t(w) * h;
+    LightSampler light_sampler("power", ctx.scene.lights());
+    BdptScene bctx(ctx.scene, ctx.camera, light_sampler);
+    const int depths = m_max_depth + 1;
+    // Chains draw many numbers per path: an independent sampler seeded from the render's.
+    auto prototype = create_sampler("independent", 1, seed_from(ctx.sampler));
+    tbb::enumerable_thread_specific<std::unique_ptr<Sampler>> samplers(
+        [&] { return prototype->clone(); });
+    tbb::enumerable_thread_specific<ScratchBuffer> scratches;
+    RenderResult result;
+    result.spp = ctx.spp;
+
+    // 1. Bootstrap: per depth, independent BDPT paths; b is the sum over depths of the mean
+    //    luminance of f / q.
+    std::vector<float> weight(size_t(m_bootstrap) * depths, 0.f);
+    tbb::parallel_for(0, m_bootstrap, [&](int i) {
+        Sampler& sampler = *samplers.local();
+        ScratchBuffer& scratch = scratches.local();
+        for (int d = 0; d < depths; ++d) {
+            sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
+            int strategy = -1;
+            if (auto x = sample_bdpt_path(bctx, sampler, d, scratch, &strategy))
+                weight[size_t(i) * depths + d] = importance_of(proposal_weight(bctx, *x, strategy));
+            scratch.reset();
+        }
+    });
+    std::vector<double> cdf(weight.size());
+    double acc = 0;
+    for (size_t i = 0; i < weight.size(); ++i) cdf[i] = acc += weight[i];
+    const double b = acc / m_bootstrap;
+    if (!(b > 0)) return result;
+
+    // 2. Chains start at bootstrap paths picked in proportion to their luminance.
+    const int64_t total = int64_t(ctx.spp) * pixels;
+    const int n_chains = int(std::min<int64_t>(m_chains, total));
+    std::vector<Chain> chains(static_cast<size_t>(n_chains));
+    for (int c = 0; c < n_chains; ++c) {
+        Chain& ch = chains[size_t(c)];
+        ch.current = std::make_unique<ScratchBuffer>();
+        ch.spare = std::make_unique<ScratchBuffer>();
+        double u = (c + 0.5) / n_chains * acc;
+        size_t k = size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+        k = std::min(k, cdf.size() - 1);
+        int i = int(k / depths), d = int(k % depths);
+        Sampler& sampler = *samplers.local();
+        sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
+        int strategy = -1;
+        auto x = sample_bdpt_path(bctx, sampler, d, *ch.current, &strategy);
+        if (!x) throw std::logic_error("mlt: a bootstrap path could not be made again");
+        ch.x = std::move(*x);
+        ch.W = proposal_weight(bctx, ch.x, strategy);
+        ch.colour = ch.W / importance_of(ch.W);
+    }
+
+    // 3. Mutations, in segments: chains run in parallel, their splats are summed in chain
+    //    order afterwards, so the image does not depend on the schedule.
+    std::vector<int64_t> budget(static_cast<size_t>(n_chains), total / n_chains);
+    for (int c = 0; c < int(total % n_chains); ++c) ++budget[size_t(c)];
+    std::vector<std::vector<Splat>> splats(static_cast<size_t>(n_chains));
+    std::vector<double> sum(size_t(pixels) * 3, 0.0);
+    const int64_t segment =
+        std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
+    int64_t done = 0;
+    auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    while (done < total) {
+        tbb::parallel_for(0, n_chains, [&](int c) {
+            Chain& ch = chains[size_t(c)];
+            Sampler& sampler = *samplers.local();
+            std::vector<Splat>& out = splats[size_t(c)];
+            auto splat = [&](const MltPath& p, const RGB& v) {
+                int x = int(p.p_raster.x), y = int(p.p_raster.y);
+                if (x >= 0 && y >= 0 && x < w && y < h && !v.is_black() && v.is_finite())
+                    out.push_back(Splat{uint32_t(y * w + x), v});
+            };
+            int64_t end = std::min(budget[size_t(c)], ch.next + segment);
+            for (; ch.next < end; ++ch.next) {
+                sampler.start_pixel_sample(Point2i{c, 0}, int(ch.next % (int64_t(1) << 30)), 0);
+                ch.spare->reset();
+                float u = sampler.get_1d();
+                std::optional<Proposal> p;
+                if (u < m_bidirectional_prob)
+                    p = mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
+                else if (u < m_bidirectional_prob + m_lens_prob)
+                    p = mutate_lens(bctx, ch.x, sampler, *ch.spare);
+                else
+                    p = mutate_caustic(bctx, ch.x, sampler, *ch.spare);
+                float a = p ? p->accept : 0.f;
+                if (p) splat(p->y, p->colour * a);
+                splat(ch.x, ch.colour * (1 - a));
+                if (p && sampler.get_1d() < a) {
+                    ch.x = std::move(p->y);
+                    ch.colour = p->colour;
+                    ch.W = p->W;
+                    std::swap(ch.current, ch.spare);
+                    ++ch.accepted;
+                }
+            }
+        });
+        for (int c = 0; c < n_chains; ++c) {
+            for (const Splat& s : splats[size_t(c)])
+                for (int k = 0; k < 3; ++k) sum[3 * size_t(s.pixel) + k] += s.v[k];
+            splats[size_t(c)].clear();
+        }
+        done = 0;
+        for (int c = 0; c < n_chains; ++c) done += chains[size_t(c)].next;
+        if (ctx.progress)
+            ctx.progress->set_fraction(ctx.time_limit > 0 ? elapsed() / ctx.time_limit
+                                                          : double(done) / double(total));
+        // Under a time limit, every chain has run the same number of mutations at the end of
+        // a segment: stop there once the time is spent.
+        if (ctx.time_limit > 0 && elapsed() >= ctx.time_limit) break;
+    }
+
+    // 4. Each mutation splatted a total of one: b * pixels / mutations scales to the image.
+    const double scale = b * double(pixels) / double(done);
+    for (int64_t p = 0; p < pixels; ++p) {
+        RGB v(float(sum[3 * size_t(p)] * scale), float(sum[3 * size_t(p) + 1] * scale),
+              float(sum[3 * size_t(p) + 2] * scale));
+        if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
+    }
+    int64_t accepted = 0;
+    for (const Chain& c : chains) accepted += c.accepted;
+    result.extra_json = fmt::format(
+        "\"mlt\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}}}", b,
+        n_chains, done, double(accepted) / double(std::max<int64_t>(done, 1)));
+    result.spp = int(done / pixels);
+    return result;
+}
+
+}  // namespace ml

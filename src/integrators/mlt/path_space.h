@@ -1,0 +1,59 @@
+// Paths as Veach's Metropolis light transport sees them (Veach's thesis, chapter 11): whole paths
+// of vertices, from the lens to a light, with the values its mutations compare.
+//
+// A path's scalar importance is the luminance of its measurement contribution f(x). Each mutation
+// compares f in its own coordinates: the whole-path (bidirectional) mutation by W = f / q, where q
+// is the density with which BDPT, choosing one of its strategies uniformly, makes the path; the
+// lens perturbation by f times the Jacobian from film position to the path's first vertices,
+// which is the path tracing throughput with the specular lobes held fixed; the caustic
+// perturbation likewise from a direction at the light side. Factors that the compared paths
+// share cancel, but colours do not (luminance of a product), so every target carries every
+// vertex's colour.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "integrators/bdpt/path_vertex.h"
+
+namespace ml {
+
+struct MltPath {
+    // Camera order: v[0] on the lens, v.back() a light endpoint (area, point or spot light);
+    // surfaces in between.
+    std::vector<PathVertex> v;
+    Vec2 p_raster;  // where the path lands on the film
+    Vec2 u_lens;    // the lens sample of v[0] (for perturbations that keep the lens point)
+    int depth() const { return int(v.size()) - 2; }
+};
+
+// Whether the path's vertex k (a surface) scatters only by delta lobes.
+inline bool is_specular_vertex(const MltPath& x, int k) {
+    const PathVertex& v = x.v[size_t(k)];
+    return v.kind == VertexKind::Surface && v.bsdf && v.bsdf.is_specular_only();
+}
+
+// The BSDF weight f |cos| of the delta lobe at vertex k that scatters from `wo` into `wi`
+// (transmission or reflection, as the directions say); black if no lobe does.
+RGB specular_weight(const PathVertex& v, const Vec3& wo, const Vec3& wi);
+
+// f(x) / q(x), q the density with which BDPT, choosing one of `depth + 2` strategies uniformly
+// (one for depth 0), proposes x. Strategies that sample a specular vertex from different sides
+// see it through different delta distributions, so only the run [s_lo, s_hi] of consecutive
+// strategies with the most light vertices is counted, and proposals of x by other strategies
+// must be refused. Black for paths BDPT cannot make.
+RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo = nullptr,
+                           int* s_hi = nullptr);
+
+// Lens perturbation target: f(x) times the Jacobian from the film position, for a path whose
+// vertices 1..j-1 are specular and j is not (j + 1 < size). Colour and magnitude.
+RGB lens_target(const BdptScene& ctx, const MltPath& x, int j);
+
+// Caustic perturbation target: f(x) times the Jacobian from the direction leaving vertex m
+// towards vertex m - 1, for a path whose vertex 1 is not specular, 2..m-1 are, and m is not.
+RGB caustic_target(const BdptScene& ctx, const MltPath& x, int m);
+
+// Continues a specular chain: the delta lobe of `v` (transmission or not) leaving from `wo`.
+std::optional<Vec3> specular_direction(const PathVertex& v, const Vec3& wo, bool transmission);
+
+}  // namespace ml
