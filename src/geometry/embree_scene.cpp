@@ -73,6 +73,44 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
     return true;
 }
 
+void EmbreeScene::intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
+                             bool hit[4]) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(16) int valid[4];
+    RTCRayHit4 rh;
+    for (int i = 0; i < 4; ++i) {
+        valid[i] = active[i] ? -1 : 0;
+        hit[i] = false;
+        const Ray& r = rays[i];
+        rh.ray.org_x[i] = r.o.x;
+        rh.ray.org_y[i] = r.o.y;
+        rh.ray.org_z[i] = r.o.z;
+        rh.ray.dir_x[i] = r.d.x;
+        rh.ray.dir_y[i] = r.d.y;
+        rh.ray.dir_z[i] = r.d.z;
+        rh.ray.tnear[i] = 0.f;
+        rh.ray.tfar[i] = r.tmax;
+        rh.ray.time[i] = r.time;
+        rh.ray.mask[i] = 0xffffffffu;
+        rh.ray.id[i] = unsigned(i);
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect4(valid, m_impl->scene, &ctx, &rh);
+    for (int i = 0; i < 4; ++i) {
+        if (!active[i]) continue;
+        stats::count_ray();
+        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        hit[i] = true;
+        fill_interaction(rays[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i],
+                         rh.ray.tfar[i], Vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]),
+                         &si[i]);
+    }
+}
+
 bool EmbreeScene::occluded(const Ray& ray) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);

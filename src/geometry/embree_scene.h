@@ -21,6 +21,11 @@ public:
     bool intersect(const Ray& ray, SurfaceInteraction* si) const;
     // True if anything blocks the ray within (0, tmax).
     bool occluded(const Ray& ray) const;
+    // Closest hits of up to four rays traced together as one Embree packet (coherent rays, such
+    // as the neighbouring camera rays of coherent MLT): rays whose `active` is false are not
+    // traced. Fills si[i] and hit[i] as intersect() does.
+    void intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
+                    bool hit[4]) const;
     Bounds3 bounds() const { return m_bounds; }
 
 private:

@@ -36,7 +36,9 @@ const std::vector<IntegratorInfo>& integrator_registry() {
         {"mlt",
          "Metropolis light transport in path space (Veach): bidirectional mutations, lens and "
          "caustic perturbations",
-         make<MltIntegrator>},
+         [](const Settings& s) { return std::make_unique<MltIntegrator>(s, false); }},
+        {"cmlt", "coherent MLT: mlt with multiple-try lens perturbations traced as Embree packets",
+         [](const Settings& s) { return std::make_unique<MltIntegrator>(s, true); }},
         {"pssmlt",
          "primary-sample-space MLT (Kelemen): Metropolis chains over BDPT's paths of one depth",
          make<PssmltIntegrator>},

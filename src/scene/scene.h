@@ -18,6 +18,11 @@ public:
         return m_embree->intersect(ray, si);
     }
     bool occluded(const Ray& ray) const { return m_embree->occluded(ray); }
+    // Four rays as one packet (EmbreeScene::intersect4).
+    void intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
+                    bool hit[4]) const {
+        m_embree->intersect4(rays, active, si, hit);
+    }
     // True if nothing blocks the segment from the surface point `si` to the point `p`.
     bool visible(const SurfaceInteraction& si, const Vec3& p) const {
         Vec3 o = si.offset_origin(p - si.p);

@@ -14,17 +14,18 @@
 
 namespace ml {
 
-MltIntegrator::MltIntegrator(const Settings& settings) {
+MltIntegrator::MltIntegrator(const Settings& settings, bool coherent) : m_coherent(coherent) {
     m_max_depth = settings.get_int("maxdepth", 5);
     m_bootstrap = settings.get_int("bootstrap", 100000);
     m_chains = settings.get_int("chains", 256);
     m_bidirectional_prob = settings.get_float("bidirectional_prob", 0.3f);
     m_lens_prob = settings.get_float("lens_prob", 0.4f);
-    if (m_max_depth < 0) throw UsageError("mlt: maxdepth must be >= 0");
-    if (m_bootstrap < 1 || m_chains < 1) throw UsageError("mlt: bootstrap and chains must be >= 1");
+    if (m_max_depth < 0) throw UsageError(name() + ": maxdepth must be >= 0");
+    if (m_bootstrap < 1 || m_chains < 1)
+        throw UsageError(name() + ": bootstrap and chains must be >= 1");
     if (!(m_bidirectional_prob > 0 && m_lens_prob >= 0 && m_bidirectional_prob + m_lens_prob <= 1))
         throw UsageError(
-            "mlt: bidirectional_prob must be > 0, lens_prob >= 0, and their sum at most 1");
+            name() + ": bidirectional_prob must be > 0, lens_prob >= 0, and their sum at most 1");
 }
 
 namespace {
@@ -66,7 +67,7 @@ struct Chain {
 RenderResult MltIntegrator::render(const RenderContext& ctx) {
     for (const auto& l : ctx.scene.lights())
         if (l->type() == LightType::Infinite || l->type() == LightType::DeltaDirection)
-            throw UsageError("mlt: environment and distant lights are not supported");
+            throw UsageError(name() + ": environment and distant lights are not supported");
     const int w = ctx.film.width(), h = ctx.film.height();
     const int64_t pixels = int64_t(w) * h;
     LightSampler light_sampler("power", ctx.scene.lights());
@@ -116,7 +117,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
         int strategy = -1;
         auto x = sample_bdpt_path(bctx, sampler, d, *ch.current, &strategy);
-        if (!x) throw std::logic_error("mlt: a bootstrap path could not be made again");
+        if (!x) throw std::logic_error(name() + ": a bootstrap path could not be made again");
         ch.x = std::move(*x);
         ch.W = proposal_weight(bctx, ch.x, strategy);
         ch.colour = ch.W / importance_of(ch.W);
@@ -154,7 +155,8 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 if (u < m_bidirectional_prob)
                     p = mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
                 else if (u < m_bidirectional_prob + m_lens_prob)
-                    p = mutate_lens(bctx, ch.x, sampler, *ch.spare);
+                    p = m_coherent ? mutate_lens_multiple_try(bctx, ch.x, sampler, *ch.spare)
+                                   : mutate_lens(bctx, ch.x, sampler, *ch.spare);
                 else
                     p = mutate_caustic(bctx, ch.x, sampler, *ch.spare);
                 float a = p ? p->accept : 0.f;
@@ -194,8 +196,8 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     int64_t accepted = 0;
     for (const Chain& c : chains) accepted += c.accepted;
     result.extra_json = fmt::format(
-        "\"mlt\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}}}", b,
-        n_chains, done, double(accepted) / double(std::max<int64_t>(done, 1)));
+        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}}}",
+        name(), b, n_chains, done, double(accepted) / double(std::max<int64_t>(done, 1)));
     result.spp = int(done / pixels);
     return result;
 }

@@ -6,9 +6,14 @@
 // the current path by their expected shares. `--spp` is mutations per pixel; under
 // `--time-limit` the chains run in segments until the time is spent (the bootstrap excluded).
 //
-// Settings: maxdepth (5), bootstrap (100000 paths per depth), chains (256), bidirectional_prob
-// (0.3), lens_prob (0.4); the rest of the mutations are caustic perturbations. Lights: area,
-// point and spot (environment and distant lights are refused). Pixel filter: box (splats).
+// `cmlt` is the same with coherent MLT's lens perturbation (Segovia et al. 2007): multiple-try
+// Metropolis over four perturbed camera rays traced as one Embree packet
+// (mutate_lens_multiple_try).
+//
+// Settings (mlt.KEY or cmlt.KEY): maxdepth (5), bootstrap (100000 paths per depth), chains (256),
+// bidirectional_prob (0.3), lens_prob (0.4); the rest of the mutations are caustic perturbations.
+// Lights: area, point and spot (environment and distant lights are refused). Pixel filter: box
+// (splats).
 #pragma once
 
 #include "integrators/integrator.h"
@@ -18,13 +23,15 @@ namespace ml {
 
 class MltIntegrator final : public Integrator {
 public:
-    explicit MltIntegrator(const Settings& settings);
-    std::string name() const override { return "mlt"; }
+    // `coherent`: the multiple-try, packet-traced lens perturbation (cmlt).
+    MltIntegrator(const Settings& settings, bool coherent);
+    std::string name() const override { return m_coherent ? "cmlt" : "mlt"; }
     RenderResult render(const RenderContext& ctx) override;
 
 private:
     int m_max_depth, m_bootstrap, m_chains;
     float m_bidirectional_prob, m_lens_prob;
+    bool m_coherent;
 };
 
 }  // namespace ml

@@ -145,31 +145,56 @@ std::optional<Proposal> mutate_bidirectional(const BdptScene& ctx, const MltPath
     return p;
 }
 
-std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
-                                    ScratchBuffer& scratch) {
-    float u_size = sampler.get_1d(), u_angle = sampler.get_1d();
+namespace {
+
+int lens_vertex(const MltPath& x) {
     // The form E S* D (D|L): j is the first vertex that is not specular.
     const int n = int(x.v.size());
     int j = 1;
     while (j < n - 1 && is_specular_vertex(x, j)) ++j;
-    if (j >= n - 1 || !x.v[size_t(j)].is_connectible()) return std::nullopt;
-    if (j + 1 < n - 1 && is_specular_vertex(x, j + 1)) return std::nullopt;
+    if (j >= n - 1 || !x.v[size_t(j)].is_connectible()) return -1;
+    if (j + 1 < n - 1 && is_specular_vertex(x, j + 1)) return -1;
+    return j;
+}
 
-    // A new film position near the old one.
-    const PerspectiveCamera& cam = ctx.camera;
-    float r_max = 0.05f * 0.5f * float(cam.width() + cam.height());
-    float r = exponential_size(u_size, 0.1f, std::max(r_max, 0.2f));
+float lens_offset_max(const PerspectiveCamera& cam) {
+    return std::max(0.05f * 0.5f * float(cam.width() + cam.height()), 0.2f);
+}
+
+Vec2 lens_offset(const PerspectiveCamera& cam, float u_size, float u_angle) {
+    float r = exponential_size(u_size, 0.1f, lens_offset_max(cam));
     float phi = 2 * kPi * u_angle;
-    Vec2 p = x.p_raster + Vec2(r * std::cos(phi), r * std::sin(phi));
+    return Vec2(r * std::cos(phi), r * std::sin(phi));
+}
+
+float lens_offset_density(const PerspectiveCamera& cam, const Vec2& a, const Vec2& b) {
+    float r = std::sqrt(sqr(a.x - b.x) + sqr(a.y - b.y)), r_max = lens_offset_max(cam);
+    if (!(r >= 0.1f && r <= r_max)) return 0;
+    // Radial density 1 / (r log(r_max / r_min)), spread over the circle of radius r.
+    return 1 / (r * std::log(r_max / 0.1f) * 2 * kPi * r);
+}
+
+std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, int j, const Vec2& p,
+                                      const SurfaceInteraction* first_hit, ScratchBuffer& scratch) {
+    const PerspectiveCamera& cam = ctx.camera;
     if (!(p.x >= 0 && p.y >= 0 && p.x < float(cam.width()) && p.y < float(cam.height())))
         return std::nullopt;
-
     // Through the same specular chain to a new vertex j, joined to the old j + 1.
     MltPath y = x;
     y.p_raster = p;
     Ray ray = cam.generate_ray({p, x.u_lens, 0});
     for (int k = 1; k <= j; ++k) {
-        auto v = surface_hit(ctx, ray, scratch);
+        std::optional<PathVertex> v;
+        if (k == 1 && first_hit) {
+            PathVertex h;
+            h.kind = VertexKind::Surface;
+            h.si = *first_hit;
+            h.ns_hit = h.si.ns;
+            h.bsdf = hit_bsdf(h.si, scratch);
+            if (h.bsdf) v = h;
+        } else if (k > 1 || !first_hit) {
+            v = surface_hit(ctx, ray, scratch);
+        }
         if (!v) return std::nullopt;
         bool specular = v->bsdf.is_specular_only();
         if (specular != (k < j)) return std::nullopt;
@@ -183,9 +208,91 @@ std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Samp
         !mutually_visible(ctx.scene, y.v[size_t(j)], y.v[size_t(j + 1)]))
         return std::nullopt;
     rebind_bsdfs(y, scratch);
-    RGB ty = lens_target(ctx, y, j);
+    return y;
+}
+
+}  // namespace
+
+std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
+                                    ScratchBuffer& scratch) {
+    float u_size = sampler.get_1d(), u_angle = sampler.get_1d();
+    int j = lens_vertex(x);
+    if (j < 0) return std::nullopt;
+    Vec2 p = x.p_raster + lens_offset(ctx.camera, u_size, u_angle);
+    auto y = lens_candidate(ctx, x, j, p, nullptr, scratch);
+    if (!y) return std::nullopt;
+    RGB ty = lens_target(ctx, *y, j);
     if (importance_of(ty) == 0) return std::nullopt;
-    return make_proposal(std::move(y), ty, lens_target(ctx, x, j));
+    return make_proposal(std::move(*y), ty, lens_target(ctx, x, j));
+}
+
+std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const MltPath& x,
+                                                 Sampler& sampler, ScratchBuffer& scratch) {
+    constexpr int kTries = 4;
+    Vec2 u[2 * kTries];
+    for (Vec2& v : u) v = sampler.get_2d();
+    float u_pick = sampler.get_1d();
+    int j = lens_vertex(x);
+    if (j < 0) return std::nullopt;
+    const PerspectiveCamera& cam = ctx.camera;
+
+    // Four perturbations of `from` (the last `n_fixed` given instead), their first hits traced
+    // as one packet, and their weights pi(y) T(y -> to).
+    struct Try {
+        std::optional<MltPath> y;
+        RGB target;
+        double weight = 0;
+    };
+    auto tries = [&](const MltPath& from, const Vec2* us, int count, const MltPath& to, Try* out) {
+        Ray rays[4];
+        bool active[4] = {false, false, false, false}, hit[4];
+        Vec2 p[4];
+        SurfaceInteraction si[4];
+        for (int i = 0; i < count; ++i) {
+            p[i] = from.p_raster + lens_offset(cam, us[i].x, us[i].y);
+            active[i] = p[i].x >= 0 && p[i].y >= 0 && p[i].x < float(cam.width()) &&
+                        p[i].y < float(cam.height());
+            rays[i] = cam.generate_ray({p[i], from.u_lens, 0});
+        }
+        ctx.scene.intersect4(rays, active, si, hit);
+        for (int i = 0; i < count; ++i) {
+            out[i] = Try();
+            if (!active[i] || !hit[i]) continue;
+            out[i].y = lens_candidate(ctx, from, j, p[i], &si[i], scratch);
+            if (!out[i].y) continue;
+            out[i].target = lens_target(ctx, *out[i].y, j);
+            out[i].weight = double(importance_of(out[i].target)) *
+                            lens_offset_density(cam, out[i].y->p_raster, to.p_raster);
+        }
+    };
+
+    // 1. Four tries from x; one of them, y, picked in proportion to its weight.
+    Try ys[kTries];
+    tries(x, u, kTries, x, ys);
+    double sum_y = 0;
+    for (const Try& t : ys) sum_y += t.weight;
+    if (!(sum_y > 0)) return std::nullopt;
+    int pick = 0;
+    for (double acc = 0; pick < kTries - 1; ++pick) {
+        acc += ys[pick].weight;
+        if (u_pick * sum_y < acc) break;
+    }
+    while (ys[pick].weight == 0) --pick;
+
+    // 2. Reference points: three tries from y, and x itself.
+    Try xs[kTries];
+    tries(*ys[pick].y, u + kTries, kTries - 1, *ys[pick].y, xs);
+    double sum_x = double(importance_of(lens_target(ctx, x, j))) *
+                   lens_offset_density(cam, x.p_raster, ys[pick].y->p_raster);
+    for (int i = 0; i < kTries - 1; ++i) sum_x += xs[i].weight;
+
+    // 3. Accept with min(1, sum of the tries' weights / sum of the reference points').
+    Proposal prop;
+    float iy = importance_of(ys[pick].target);
+    prop.accept = sum_x > 0 ? float(std::min(1.0, sum_y / sum_x)) : 1.f;
+    prop.colour = ys[pick].target / iy;
+    prop.y = std::move(*ys[pick].y);
+    return prop;
 }
 
 std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
