@@ -16,8 +16,10 @@
 //          get_2d() for the direction;
 //        - each bounce of the light subpath (s - 2 of them): get_1d(), then get_2d(), as above.
 //   3. stream Connection:
-//        - s == 1: get_1d() choosing the light, get_2d() for the point on it;
-//        - t == 1: get_2d() for the point on the lens;
+//        - s == 1: get_1d() choosing the light, get_2d() for the point on it (only when the
+//          camera subpath's last vertex can connect: not a delta-only BSDF);
+//        - t == 1: get_2d() for the point on the lens (only when the light subpath's last
+//          vertex can connect);
 //        - otherwise nothing.
 // A subpath that ends early (escapes, is absorbed) stops drawing numbers of its stream; the
 // contribution is then zero.
