@@ -5,8 +5,11 @@ percentiles, as the number of VPLs grows.
 
 The brute force is O(lights) per pixel, so both integrators render a small image for the
 comparison (said in the table); `lightcuts` is also timed alone at the larger resolution.
-Usage: bench/lightcuts_scaling.py SCENE [--counts 1000,10000,100000] [--glossy bsdf|skip]
-       [--exact-max 100000] [--no-append]
+Usage: bench/lightcuts_scaling.py SCENE [--counts 1000,10000,100000] [--glossy bsdf|diffuse|skip]
+       [--exact-max 100000] [--small 64x36] [--no-append]
+
+Speedup is given twice: for the whole render call, and for shading alone (the render less the
+point-light set and, for lightcuts, the tree, which only lightcuts builds).
 """
 import json
 import os
@@ -71,9 +74,9 @@ def percentiles(a, b):
 def main():
     scene = sys.argv[1]
     counts = [int(c) for c in arg("--counts", "1000,10000,100000").split(",")]
-    glossy = arg("--glossy", "skip")
+    glossy = arg("--glossy", "diffuse")
     exact_max = int(arg("--exact-max", "100000"))
-    small, large = "48x27", "320x180"
+    small, large = arg("--small", "64x36"), "320x180"
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in counts:
@@ -87,13 +90,19 @@ def main():
             rows.append(row)
     lines = [f"Scene `{os.path.relpath(scene, ROOT)}`, vpl.glossy={glossy}, error 0.02, 1 spp, 2 threads.",
              "",
-             "| VPLs | point lights | light set s | tree build s | avg cut | max cut | lightcuts render s (320x180) | lightcuts s (48x27) | vpl s (48x27) | speedup | rel. error p50 / p90 / p99 | within 2% |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"| VPLs | point lights | light set s | tree build s | avg cut | max cut | lightcuts render s ({large}) | lightcuts s ({small}) | vpl s ({small}) | speedup | speedup, shading only | rel. error p50 / p90 / p99 | within 2% |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lc = r["big"]["lightcuts"]
         lcs = r["lcs"]
         exact = r.get("exs")
         sp = f"{exact['seconds']['render'] / lcs['seconds']['render']:.1f}x" if exact else "-"
+        sp_shade = "-"
+        if exact:
+            lc_shade = lcs["seconds"]["render"] - lcs["lightcuts"]["point_light_seconds"] - \
+                lcs["lightcuts"]["tree_build_seconds"]
+            ex_shade = exact["seconds"]["render"] - lcs["lightcuts"]["point_light_seconds"]
+            sp_shade = f"{ex_shade / lc_shade:.1f}x"
         pct = r.get("pct")
         pct_s = f"{pct[0]:.4f} / {pct[1]:.4f} / {pct[2]:.4f}" if pct else "-"
         within = f"{100 * pct[3]:.1f}%" if pct else "-"
@@ -101,7 +110,7 @@ def main():
             f"| {r['n']} | {r['big']['lights']['point_lights']} | {lc['point_light_seconds']:.2f} | "
             f"{lc['tree_build_seconds']:.3f} | {lc['avg_cut_size']:.1f} | {lc['max_cut_size']} | "
             f"{r['big']['seconds']['render']:.2f} | {lcs['seconds']['render']:.3f} | "
-            f"{exact['seconds']['render'] if exact else float('nan'):.3f} | {sp} | {pct_s} | {within} |")
+            f"{exact['seconds']['render'] if exact else float('nan'):.3f} | {sp} | {sp_shade} | {pct_s} | {within} |")
     text = "\n".join(lines)
     print(text)
     if "--no-append" not in sys.argv:

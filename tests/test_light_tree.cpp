@@ -167,6 +167,44 @@ TEST(LightTree, RepresentativeProportionalToIntensity) {
     EXPECT_NEAR(bright, 0.75 * trials, 5 * 27.4);
 }
 
+// Every representative k of a node is representative k of one of its children (so it lies in
+// the node's subtree), leaves are their own, and each k picks the root's light in proportion to
+// intensity independently of the others.
+TEST(LightTree, RepresentativesPerSample) {
+    std::vector<PointLight> lights(4);
+    for (int i = 0; i < 4; ++i) lights[size_t(i)].p = Vec3(float(i), 0, 0);
+    for (int i = 0; i < 4; ++i) lights[size_t(i)].intensity = RGB(float(i + 1));
+    int count[4][kLightTreeReps] = {};
+    int same_as_first = 0, trials = 2000;
+    for (int s = 0; s < trials; ++s) {
+        LightTreeOptions opts;
+        opts.seed = uint64_t(s);
+        LightTree t(lights, opts);
+        for (int32_t i = 0; i < int32_t(t.node_count()); ++i) {
+            const LightTreeNode& n = t.node(i);
+            ASSERT_EQ(t.rep(i, 0), n.light);
+            for (int k = 0; k < kLightTreeReps; ++k) {
+                if (n.is_leaf()) {
+                    ASSERT_EQ(t.rep(i, k), n.light);
+                } else {
+                    int32_t r = t.rep(i, k);
+                    ASSERT_TRUE(r == t.rep(n.children[0], k) || r == t.rep(n.children[1], k));
+                }
+            }
+        }
+        int32_t root = t.root(PointLightKind::Omni);
+        for (int k = 0; k < kLightTreeReps; ++k) ++count[t.rep(root, k)][k];
+        same_as_first += t.rep(root, 1) == t.rep(root, 0);
+    }
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < kLightTreeReps; ++k) {
+            double p = (i + 1) / 10.0, sd = std::sqrt(trials * p * (1 - p));
+            EXPECT_NEAR(count[i][k], trials * p, 5 * sd) << "light " << i << " rep " << k;
+        }
+    // Independent picks agree with probability sum p_i^2 = 0.3.
+    EXPECT_NEAR(same_as_first, 0.3 * trials, 5 * std::sqrt(trials * 0.3 * 0.7));
+}
+
 TEST(LightTree, MetricPrefersCloseAndAligned) {
     Bounds3 small, big;
     small.expand(Vec3(0, 0, 0)), small.expand(Vec3(1, 0, 0));

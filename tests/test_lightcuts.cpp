@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "manylight/light_tree.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 
@@ -16,13 +17,15 @@ struct CutOptions {
     float error = 0.02f;
     std::string criterion = "max";
     int max_cut = 1000;
+    int spp = 2;
+    int reps = kLightTreeReps;
 };
 
 RenderOutput render_many(const std::string& integrator, SceneDesc desc, int vpls, int res,
                          const CutOptions& cut) {
     RenderOptions opt;
     opt.integrator = integrator;
-    opt.spp = 2;
+    opt.spp = cut.spp;
     opt.width = res;
     opt.height = res;
     opt.seed = 5;
@@ -33,6 +36,7 @@ RenderOutput render_many(const std::string& integrator, SceneDesc desc, int vpls
         opt.set["lightcuts.error"] = std::to_string(cut.error);
         opt.set["lightcuts.criterion"] = cut.criterion;
         opt.set["lightcuts.max_cut"] = std::to_string(cut.max_cut);
+        opt.set["lightcuts.reps"] = std::to_string(cut.reps);
     }
     return render_scene(std::move(desc), opt);
 }
@@ -66,11 +70,11 @@ ErrorFigures compare_with_exact(Load load, int vpls, int res, const CutOptions& 
     size_t pos = lc.figures.extra_json.find("avg_cut_size\": ");
     if (pos != std::string::npos) f.avg_cut = std::atof(lc.figures.extra_json.c_str() + pos + 15);
     std::printf(
-        "lights %zu (vpls %zu), %s error %.3f: per-pixel relative error p50 %.4f p90 %.4f "
-        "p99 %.4f max %.4f; %.1f%% of pixels within the error; image mean %+.3f%%; "
-        "average cut %.1f\n",
-        exact.figures.point_lights, exact.figures.vpls, cut.criterion.c_str(), cut.error,
-        f.percentile(0.5), f.percentile(0.9), f.percentile(0.99), f.rel.back(),
+        "lights %zu (vpls %zu), %s error %.3f, %d spp, %d reps: per-pixel relative error p50 "
+        "%.4f p90 %.4f p99 %.4f max %.4f; %.1f%% of pixels within the error; image mean "
+        "%+.3f%%; average cut %.1f\n",
+        exact.figures.point_lights, exact.figures.vpls, cut.criterion.c_str(), cut.error, cut.spp,
+        cut.reps, f.percentile(0.5), f.percentile(0.9), f.percentile(0.99), f.rel.back(),
         100 * f.fraction_within(cut.error), 100 * f.mean_rel, f.avg_cut);
     return f;
 }
@@ -94,6 +98,23 @@ TEST(Lightcuts, MaxCriterionConvergesToTheExactSum) {
         ErrorFigures fine = compare_with_exact(load, 2000, 24, {0.002f});
         EXPECT_GE(fine.fraction_within(0.01), 0.99);
         EXPECT_LT(fine.percentile(0.99), coarse.percentile(0.99));
+    }
+}
+
+// The issue's requirement: at the default 2%, the image is within the error of the exact sum in
+// at least 99% of pixels. Each node's bound is below 2% of the estimate, but a cut of a hundred
+// nodes adds their errors; with one fixed representative per node those errors repeat at every
+// sample of a pixel (83-89% of pixels within 2% at 2 to 8 spp). Representatives drawn per
+// sample (lightcuts.reps) make them independent, so they average out over a pixel's samples.
+TEST(Lightcuts, WithinTheErrorInNinetyNinePercentOfPixels) {
+    for (auto load : {cornell, cornell_4096}) {
+        CutOptions opt;
+        opt.spp = 16;
+        ErrorFigures f = compare_with_exact(load, 2000, 24, opt);
+        EXPECT_GE(f.fraction_within(0.02), 0.99);
+        opt.reps = 1;
+        ErrorFigures fixed = compare_with_exact(load, 2000, 24, opt);
+        EXPECT_LT(f.percentile(0.99), fixed.percentile(0.99));
     }
 }
 

@@ -21,8 +21,10 @@ struct GatherPoint {
 
 // The gather points of a camera path: it follows `ray` through delta surfaces (mirrors, glass)
 // for at most `max_depth` bounces, adding the emission it sees to *L (times throughput), and
-// calls shade(g) at every hit with a non-delta part, which returns the radiance the point lights
-// give there (times g.beta). A surface with both (a diffuse base under a smooth coat) is
+// calls shade(g, u) at every hit with a non-delta part, which returns the radiance the point
+// lights give there (times g.beta); u is a sample in [0, 1) for the shading's own choices (drawn
+// for every integrator, so that `vpl` and `lightcuts` consume their samplers alike and gather at
+// the same points). A surface with both (a diffuse base under a smooth coat) is
 // gathered at and also continued through: its BSDF is sampled, and a delta sample carries the
 // path on (weighted by f / pdf, which counts the lobe's choice), while a non-delta one ends it,
 // since the gather has that part. Returns the radiance along `ray`.
@@ -53,7 +55,10 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
     for (int depth = 0;; ++depth) {
         if (!detail::next_gather_hit(scene, ray, scratch, beta, &L, &g)) return L;
         g.beta = beta;
-        if (g.bsdf.has_nonspecular()) L += shade(g);
+        if (g.bsdf.has_nonspecular()) {
+            float u = sampler.get_1d();
+            L += shade(g, u);
+        }
         if (depth == max_depth || !(g.bsdf.flags() & kBxdfSpecular)) return L;
         if (!detail::continue_through_delta(g, sampler, &beta, &ray)) return L;
     }

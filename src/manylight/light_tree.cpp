@@ -120,10 +120,13 @@ LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptio
 void LightTree::order_depth_first() {
     std::vector<LightTreeNode> ordered;
     ordered.reserve(m_nodes.size());
+    std::vector<int32_t> old_of_new;  // the old index of each new node, for the representatives
+    old_of_new.reserve(m_nodes.size());
     std::vector<std::pair<int32_t, int32_t>> stack;  // (old index, new index already taken)
     for (int32_t& root : m_roots) {
         if (root < 0) continue;
         ordered.push_back(m_nodes[size_t(root)]);
+        old_of_new.push_back(root);
         int32_t new_root = int32_t(ordered.size() - 1);
         stack.push_back({root, new_root});
         root = new_root;
@@ -133,7 +136,10 @@ void LightTree::order_depth_first() {
             const LightTreeNode& old_node = m_nodes[size_t(old_index)];
             if (old_node.is_leaf()) continue;
             int32_t first = int32_t(ordered.size());
-            for (int k = 0; k < 2; ++k) ordered.push_back(m_nodes[size_t(old_node.children[k])]);
+            for (int k = 0; k < 2; ++k) {
+                ordered.push_back(m_nodes[size_t(old_node.children[k])]);
+                old_of_new.push_back(old_node.children[k]);
+            }
             for (int k = 0; k < 2; ++k) {
                 ordered[size_t(new_index)].children[k] = first + k;
                 stack.push_back({old_node.children[k], first + k});
@@ -141,6 +147,11 @@ void LightTree::order_depth_first() {
         }
     }
     m_nodes = std::move(ordered);
+    std::vector<int32_t> reps(m_reps.size());
+    for (size_t i = 0; i < old_of_new.size(); ++i)
+        std::copy_n(m_reps.begin() + ptrdiff_t(size_t(old_of_new[i]) * kLightTreeReps),
+                    kLightTreeReps, reps.begin() + ptrdiff_t(i * kLightTreeReps));
+    m_reps = std::move(reps);
 }
 
 void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
@@ -191,6 +202,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     // 2. One leaf per light, in Morton order.
     const size_t base = m_nodes.size();
     m_nodes.resize(base + n);
+    m_reps.resize(m_nodes.size() * kLightTreeReps);
     Clusters cl;
     cl.resize(n);
     tbb::parallel_for(size_t(0), n, [&](size_t k) {
@@ -198,6 +210,8 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         LightTreeNode& node = m_nodes[base + k];
         node.kind = kind;
         node.light = keys[k].second;
+        std::fill_n(m_reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
+                    node.light);
         node.intensity = pl.intensity;
         if (!directional) node.bounds.expand(pl.p);
         node.cone = has_cone ? DirectionCone(normalize(pl.n)) : DirectionCone::entire_sphere();
@@ -259,6 +273,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
 
         size_t first_new = m_nodes.size();
         m_nodes.resize(first_new + merges);
+        m_reps.resize(m_nodes.size() * kLightTreeReps);
         next.resize(kept);
         tbb::parallel_for(size_t(0), m, [&](size_t i) {
             if (next_pos[i] < 0) return;
@@ -283,8 +298,13 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             float lb = std::max(0.f, nb.intensity.luminance());
             Rng rng(hash_ints(opts.seed, uint64_t(kind), id));
             float u = rng.next_float();
-            bool pick_a = la + lb > 0 ? u * (la + lb) < la : u < 0.5f;
-            node.light = pick_a ? na.light : nb.light;
+            int32_t* reps = &m_reps[id * kLightTreeReps];
+            for (int k = 0; k < kLightTreeReps; ++k) {
+                if (k > 0) u = rng.next_float();
+                bool pick_a = la + lb > 0 ? u * (la + lb) < la : u < 0.5f;
+                reps[k] = m_reps[size_t(pick_a ? a : b) * kLightTreeReps + size_t(k)];
+            }
+            node.light = reps[0];
             m_nodes[id] = node;
             next.node[p] = int32_t(id), next.box[p] = node.bounds, next.axis[p] = node.cone.axis;
             next.theta[p] = cone_angle(node.cone), next.lum[p] = la + lb;

@@ -18,6 +18,12 @@
 
 namespace ml {
 
+// Independent representatives kept per node: rep k of a node is picked among its lights with
+// probability proportional to intensity, independently for each k, so a gather point that shades
+// with rep k (k drawn from its sampler) makes an error of zero mean, and the samples of a pixel
+// make independent errors that average out (rep 0 is the node's `light`).
+constexpr int kLightTreeReps = 8;
+
 struct LightTreeNode {
     Bounds3 bounds;      // positions of the node's lights (directional lights: unused, empty)
     DirectionCone cone;  // oriented: lobe axes; directional: travel directions; omni: the sphere
@@ -44,6 +50,8 @@ public:
 
     // Root node of the tree of one kind, or -1 when there is no light of that kind.
     int32_t root(PointLightKind kind) const { return m_roots[int(kind)]; }
+    // Representative k (0 <= k < kLightTreeReps) of node i; 0 is node(i).light.
+    int32_t rep(int32_t i, int k) const { return m_reps[size_t(i) * kLightTreeReps + size_t(k)]; }
     const LightTreeNode& node(int32_t i) const { return m_nodes[size_t(i)]; }
     const std::vector<LightTreeNode>& nodes() const { return m_nodes; }
     size_t node_count() const { return m_nodes.size(); }
@@ -55,6 +63,7 @@ private:
     void order_depth_first();
 
     std::vector<LightTreeNode> m_nodes;
+    std::vector<int32_t> m_reps;  // kLightTreeReps per node
     int32_t m_roots[3] = {-1, -1, -1};
     size_t m_light_count = 0;
 };

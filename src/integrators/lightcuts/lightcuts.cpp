@@ -17,6 +17,9 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     m_error = settings.get_float("error", 0.02f);
     m_max_cut = settings.get_int("max_cut", 1000);
     m_verify = settings.get_bool("verify", false);
+    m_reps = settings.get_int("reps", kLightTreeReps);
+    if (m_reps < 1 || m_reps > kLightTreeReps)
+        throw UsageError(fmt::format("lightcuts.reps must be 1 to {}", kLightTreeReps));
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
         m_criterion = Criterion::Max;
@@ -66,13 +69,14 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
             m_verify_total.load() / double(std::max<uint64_t>(1, n)));
     }
     r.extra_json = fmt::format(
-        "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"max_cut\": {}, \"avg_cut_size\": "
+        "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"reps\": {}, \"max_cut\": {}, "
+        "\"avg_cut_size\": "
         "{:.2f}, "
         "\"max_cut_size\": {}, \"gather_points\": {}, \"shadow_rays_per_pixel\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
         "\"light_paths\": {}{}}}",
-        m_error, criterion_name(), m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
+        m_error, criterion_name(), m_reps, m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
         m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional,
         m_set.light_paths, verify);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
@@ -87,9 +91,9 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
                             ScratchBuffer& scratch, Point2i pixel) const {
     size_t i = size_t(pixel.y) * m_width + pixel.x;
     return gather_along(
-        scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g) {
+        scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float u) {
             int cut_size = 0;
-            RGB c = shade(scene, g, &cut_size);
+            RGB c = shade(scene, g, std::min(m_reps - 1, int(u * float(m_reps))), &cut_size);
             m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
             m_gather_points.fetch_add(1, std::memory_order_relaxed);
             int prev = m_cut_max.load(std::memory_order_relaxed);
@@ -103,7 +107,8 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
         });
 }
 
-RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cut_size) const {
+RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k,
+                               int* cut_size) const {
     const Vec3& x = g.si.p;
     const Vec3& wo = g.si.wo;
     // The representative's contribution: exact, with its shadow ray (and VPL clamping).
@@ -143,7 +148,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
             e.estimate = rep_value;  // exact
             return e;
         }
-        const RGB& I_rep = m_set.lights[size_t(n.light)].intensity;
+        const RGB& I_rep = m_set.lights[size_t(m_tree.rep(index, k))].intensity;
         float lum_ratio = I_rep.luminance() > 0 ? n.intensity.luminance() / I_rep.luminance() : 0;
         for (int c = 0; c < 3; ++c)
             e.estimate[c] = rep_value[c] * (I_rep[c] > 0 ? n.intensity[c] / I_rep[c] : lum_ratio);
@@ -162,7 +167,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
          {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
         int32_t root = m_tree.root(kind);
         if (root < 0) continue;
-        CutEntry e = make_entry(root, light_value(m_tree.node(root).light));
+        CutEntry e = make_entry(root, light_value(m_tree.rep(root, k)));
         total += e.estimate;
         bound_sum += e.bound;
         bound_sq += e.bound * e.bound;
@@ -201,8 +206,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int* cu
         const LightTreeNode& n = m_tree.node(e.node);
         for (int32_t child : n.children) {
             // A child whose representative is the parent's reuses its shadow ray.
-            int32_t rep = m_tree.node(child).light;
-            CutEntry c = make_entry(child, rep == n.light ? e.rep_value : light_value(rep));
+            int32_t rep = m_tree.rep(child, k);
+            CutEntry c =
+                make_entry(child, rep == m_tree.rep(e.node, k) ? e.rep_value : light_value(rep));
             total += c.estimate;
             bound_sum += c.bound;
             bound_sq += c.bound * c.bound;

@@ -44,7 +44,8 @@ private:
         bool operator<(const CutEntry& o) const { return bound < o.bound; }
     };
     // The cut at one gather point: its radiance; *cut_size receives the number of nodes.
-    RGB shade(const Scene& scene, const GatherPoint& g, int* cut_size) const;
+    // Representative k of every node stands for it (0 <= k < m_reps).
+    RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size) const;
     // `lightcuts.verify`: every clustered node of the cut just made against the exact sum over
     // its lights (a shadow ray each): counts nodes whose error exceeds their bound.
     void verify_cut(const Scene& scene, const GatherPoint& g, const std::vector<CutEntry>& cut,
@@ -59,6 +60,7 @@ private:
     }
     int m_max_cut = 1000;
     bool m_verify = false;
+    int m_reps = kLightTreeReps;  // representatives per node drawn from (1: always the first)
     mutable std::atomic<uint64_t> m_verified_nodes{0}, m_violations{0};
     mutable std::atomic<double> m_verify_abs_error{0}, m_verify_bounds{0}, m_verify_total{0};
     PointLightSet m_set;

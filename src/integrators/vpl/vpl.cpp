@@ -46,7 +46,7 @@ RenderResult VplIntegrator::render(const RenderContext& ctx) {
 RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
                       Point2i pixel) const {
     return gather_along(scene, ray, sampler, scratch, m_settings.max_depth,
-                        [&](const GatherPoint& g) {
+                        [&](const GatherPoint& g, float) {
                             RGB L;
                             for (const PointLight& pl : m_set.lights) {
                                 RGB c;
