@@ -236,8 +236,8 @@ std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const Mlt
     if (j < 0) return std::nullopt;
     const PerspectiveCamera& cam = ctx.camera;
 
-    // Four perturbations of `from` (the last `n_fixed` given instead), their first hits traced
-    // as one packet, and their weights pi(y) T(y -> to).
+    // Up to four perturbations of `from`, their first hits traced as one packet, and their
+    // weights.
     struct Try {
         std::optional<MltPath> y;
         RGB target;
@@ -261,8 +261,11 @@ std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const Mlt
             out[i].y = lens_candidate(ctx, from, j, p[i], &si[i], scratch);
             if (!out[i].y) continue;
             out[i].target = lens_target(ctx, *out[i].y, j);
-            out[i].weight = double(importance_of(out[i].target)) *
-                            lens_offset_density(cam, out[i].y->p_raster, to.p_raster);
+            // w(y) = pi(y) T(y -> to) lambda(y, to) with the symmetric lambda = 1 / T: the
+            // offsets' density is symmetric, so the weight is pi(y) wherever T > 0.
+            out[i].weight = lens_offset_density(cam, out[i].y->p_raster, to.p_raster) > 0
+                                ? double(importance_of(out[i].target))
+                                : 0.0;
         }
     };
 
@@ -282,8 +285,7 @@ std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const Mlt
     // 2. Reference points: three tries from y, and x itself.
     Try xs[kTries];
     tries(*ys[pick].y, u + kTries, kTries - 1, *ys[pick].y, xs);
-    double sum_x = double(importance_of(lens_target(ctx, x, j))) *
-                   lens_offset_density(cam, x.p_raster, ys[pick].y->p_raster);
+    double sum_x = double(importance_of(lens_target(ctx, x, j)));
     for (int i = 0; i < kTries - 1; ++i) sum_x += xs[i].weight;
 
     // 3. Accept with min(1, sum of the tries' weights / sum of the reference points').

@@ -53,8 +53,9 @@ std::optional<Proposal> mutate_bidirectional(const BdptScene& ctx, const MltPath
 std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
                                     ScratchBuffer& scratch);
 // Coherent MLT's lens perturbation (Segovia et al. 2007): multiple-try Metropolis with four tries
-// whose camera rays are traced as one Embree packet, weights pi(y) T(y -> x), and three reference
-// tries from the picked one (plus x); accepted with min(1, sum of weights / sum of references).
+// whose camera rays are traced as one Embree packet, weights pi(y) (lambda = 1 / T for the
+// symmetric offsets), and three reference tries from the picked one (plus x); accepted with
+// min(1, sum of weights / sum of references).
 std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const MltPath& x,
                                                  Sampler& sampler, ScratchBuffer& scratch);
 std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
