@@ -136,7 +136,12 @@ private:
         // omni lights (both sides) a bound of f |cos|.
         bool diffuse_only = m_options.glossy == GlossyVpls::Diffuse && (flags & kBxdfGlossy);
         pl.kind = transmits ? PointLightKind::Omni : PointLightKind::Oriented;
-        pl.intensity = beta * estimate_max_bsdf_value(kept, wi, transmits, diffuse_only);
+        std::optional<RGB> exact_max;
+        if (diffuse_only && !transmits)
+            exact_max = kept.bxdf()->max_diffuse_value(kept.frame().to_local(wi));
+        pl.intensity =
+            beta *
+            (exact_max ? *exact_max : estimate_max_bsdf_value(kept, wi, transmits, diffuse_only));
         if (pl.intensity.is_black()) return;  // nothing diffuse to keep
         pl.surface = int32_t(chunk.surfaces.size());
         chunk.surfaces.push_back(VplSurface{kept, wi, beta, diffuse_only});

@@ -67,6 +67,9 @@ public:
     virtual RGB eval_diffuse(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
         return (flags() & (kBxdfGlossy | kBxdfSpecular)) ? RGB() : eval(wo, wi, mode);
     }
+    // max over wo of eval_diffuse(wo, wi) (Radiance mode), where the Bxdf knows it exactly;
+    // nullopt: unknown (callers probe).
+    virtual std::optional<RGB> max_diffuse_value(const Vec3& wi) const { return std::nullopt; }
 };
 
 // A Bxdf placed at a hit: world-space directions in, world-space directions out.

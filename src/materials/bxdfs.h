@@ -115,6 +115,7 @@ public:
     float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
     RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
     RGB eval_diffuse(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<RGB> max_diffuse_value(const Vec3& wi) const override;
 
 private:
     float coat_probability(float cos_o) const;

@@ -105,6 +105,12 @@ RGB CoatedDiffuseBxdf::eval_diffuse(const Vec3& wo, const Vec3& wi, TransportMod
     return eval_base(std::abs(wo.z), std::abs(wi.z));
 }
 
+std::optional<RGB> CoatedDiffuseBxdf::max_diffuse_value(const Vec3& wi) const {
+    // The way out, 1 - F(cos) times exp(-thickness / cos_t), grows with cos: largest along the
+    // normal.
+    return eval_base(1.f, std::abs(wi.z));
+}
+
 std::optional<BsdfSample> CoatedDiffuseBxdf::sample(const Vec3& wo_in, float uc, const Vec2& u,
                                                     TransportMode mode) const {
     if (wo_in.z == 0) return std::nullopt;
