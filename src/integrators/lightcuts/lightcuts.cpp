@@ -141,14 +141,14 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k,
     // A node stands for its cluster: the representative's value scaled, channel by channel, by
     // the cluster's intensity over the representative's (by luminance where the representative
     // has none in a channel).
-    auto make_entry = [&](int32_t index, const RGB& rep_value) {
+    auto make_entry = [&](int32_t index, int32_t rep, const RGB& rep_value) {
         const LightTreeNode& n = m_tree.node(index);
-        CutEntry e{index, 0.f, RGB(), rep_value, true};
+        CutEntry e{index, rep, 0.f, RGB(), rep_value, true};
         if (n.is_leaf()) {
             e.estimate = rep_value;  // exact
             return e;
         }
-        const RGB& I_rep = m_set.lights[size_t(m_tree.rep(index, k))].intensity;
+        const RGB& I_rep = m_set.lights[size_t(rep)].intensity;
         float lum_ratio = I_rep.luminance() > 0 ? n.intensity.luminance() / I_rep.luminance() : 0;
         for (int c = 0; c < 3; ++c)
             e.estimate[c] = rep_value[c] * (I_rep[c] > 0 ? n.intensity[c] / I_rep[c] : lum_ratio);
@@ -167,7 +167,8 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k,
          {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
         int32_t root = m_tree.root(kind);
         if (root < 0) continue;
-        CutEntry e = make_entry(root, light_value(m_tree.rep(root, k)));
+        int32_t rep = m_tree.rep(root, k);
+        CutEntry e = make_entry(root, rep, light_value(rep));
         total += e.estimate;
         bound_sum += e.bound;
         bound_sq += e.bound * e.bound;
@@ -207,8 +208,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k,
         for (int32_t child : n.children) {
             // A child whose representative is the parent's reuses its shadow ray.
             int32_t rep = m_tree.rep(child, k);
-            CutEntry c =
-                make_entry(child, rep == m_tree.rep(e.node, k) ? e.rep_value : light_value(rep));
+            CutEntry c = make_entry(child, rep, rep == e.rep ? e.rep_value : light_value(rep));
             total += c.estimate;
             bound_sum += c.bound;
             bound_sq += c.bound * c.bound;

@@ -37,6 +37,7 @@ public:
 private:
     struct CutEntry {
         int32_t node;
+        int32_t rep;         // the representative light it is shaded with
         float bound;         // luminance of the error bound (infinite: must be split)
         RGB estimate;        // the node's estimate
         RGB rep_value;       // the representative's own contribution, visibility included
