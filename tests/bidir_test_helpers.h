@@ -13,6 +13,13 @@
 
 namespace ml::test {
 
+// Delta lights for the Cornell box (instead of its area light).
+inline const std::string kCornellPointLight = R"(LightSource "point" "rgb I" [ 60000 50000 30000 ]
+  "point3 from" [ 278 500 279 ])";
+inline const std::string kCornellSpotLight = R"(LightSource "spot" "rgb I" [ 150000 120000 80000 ]
+  "point3 from" [ 278 540 279 ] "point3 to" [ 278 0 279 ] "float coneangle" [ 40 ]
+  "float conedelta" [ 10 ])";
+
 // The built-in Cornell box with a box pixel filter (splats land in one pixel, like the box
 // filter's samples), `extra` added to the world and its area light replaced by `light` if given.
 inline std::string cornell_variant(const std::string& extra = "", const std::string& light = "") {

@@ -1,6 +1,9 @@
 // Helpers for statistical render tests: render scene text in-process, image statistics.
 #pragma once
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -33,6 +36,45 @@ inline ChannelStats channel_stats(const Image& img, int c) {
     double var = std::max(0.0, s2 / n - st.mean * st.mean);
     st.stderr_of_mean = std::sqrt(var / (n - 1));
     return st;
+}
+
+// A camera inside a closed sphere of albedo `albedo` that emits Le from every point (two-sided):
+// the radiance along every ray is Le (1 + albedo + albedo^2 + ...), cut at the path depth.
+inline std::string furnace_scene(float albedo, float Le, int res = 24) {
+    return fmt::format(R"(
+LookAt 0 0 0  0 0 1  0 1 0
+Camera "perspective" "float fov" [ 60 ]
+Film "rgb" "integer xresolution" [ {2} ] "integer yresolution" [ {2} ]
+Sampler "independent"
+PixelFilter "box"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
+  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
+  Shape "sphere" "float radius" [ 3 ]
+AttributeEnd
+)",
+                       Le, albedo, res);
+}
+
+struct MeanDifference {
+    double mean = 0, stderr_of_mean = 0;  // of a - b over the pixels
+    double reference_mean = 0;            // of b
+};
+
+// The mean per-pixel difference of channel c between two renders of one scene and its standard
+// error: the pixels' noise only, not the image's own variation, which the two share.
+inline MeanDifference mean_difference(const Image& a, const Image& b, int c) {
+    double n = double(a.pixels.size()), sd = 0, sd2 = 0, sb = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        double d = double(a.pixels[i][c]) - b.pixels[i][c];
+        sd += d, sd2 += d * d, sb += b.pixels[i][c];
+    }
+    MeanDifference m;
+    m.mean = sd / n;
+    m.stderr_of_mean = std::sqrt(std::max(0.0, sd2 / n - m.mean * m.mean) / (n - 1));
+    m.reference_mean = sb / n;
+    return m;
 }
 
 }  // namespace ml::test

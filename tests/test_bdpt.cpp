@@ -16,33 +16,6 @@
 
 using namespace ml;
 
-namespace {
-
-std::string furnace_scene(float albedo, float Le) {
-    return fmt::format(R"(
-LookAt 0 0 0  0 0 1  0 1 0
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 24 ] "integer yresolution" [ 24 ]
-Sampler "independent"
-PixelFilter "box"
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
-  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
-  Shape "sphere" "float radius" [ 3 ]
-AttributeEnd
-)",
-                       Le, albedo);
-}
-
-const std::string kPointLight = R"(LightSource "point" "rgb I" [ 60000 50000 30000 ]
-  "point3 from" [ 278 500 279 ])";
-const std::string kSpotLight = R"(LightSource "spot" "rgb I" [ 150000 120000 80000 ]
-  "point3 from" [ 278 540 279 ] "point3 to" [ 278 0 279 ] "float coneangle" [ 40 ]
-  "float conedelta" [ 10 ])";
-
-}  // namespace
-
 TEST(Bdpt, WhiteFurnaceHoldsAtEachDepth) {
     for (int depth : {0, 1, 4}) {
         RenderOptions opt;
@@ -50,7 +23,7 @@ TEST(Bdpt, WhiteFurnaceHoldsAtEachDepth) {
         opt.spp = 32;
         opt.max_depth = depth;
         opt.seed = 5;
-        Image img = test::render_text(furnace_scene(0.5f, 1.f), opt).image;
+        Image img = test::render_text(test::furnace_scene(0.5f, 1.f), opt).image;
         double expected = (1 - std::pow(0.5, depth + 1)) / 0.5;
         for (int c = 0; c < 3; ++c) {
             test::ChannelStats st = test::channel_stats(img, c);
@@ -68,7 +41,7 @@ TEST(Bdpt, AgreesWithPathOnTheCornellBox) {
 }
 
 TEST(Bdpt, AgreesWithPathUnderPointAndSpotLights) {
-    for (const std::string& light : {kPointLight, kSpotLight}) {
+    for (const std::string& light : {test::kCornellPointLight, test::kCornellSpotLight}) {
         std::string scene = test::cornell_variant("", light);
         auto b = test::render_twice(scene, "bdpt", 16, 3, 32);
         auto p = test::render_twice(scene, "path", 32, 3, 32);
@@ -233,7 +206,7 @@ std::function<bool(int, int)> blocks_seeing_specular(const std::string& text, in
 TEST(Bdpt, AgreesWithLightTracingForPointLightCausticsThroughGlassAndMirrors) {
     // A point light and delta BSDFs: path tracing cannot find the caustics (no strategy of it
     // samples them), light tracing can, wherever the camera sees a diffuse surface first.
-    std::string scene = test::cornell_variant(test::glass_and_mirror(), kPointLight);
+    std::string scene = test::cornell_variant(test::glass_and_mirror(), test::kCornellPointLight);
     auto b = test::render_twice(scene, "bdpt", 32, 4, 32);
     auto l = test::render_twice(scene, "lighttracer", 128, 4, 32);
     test::expect_agreement(b, l, 8, "bdpt vs lighttracer, point light, glass and mirror",

@@ -194,17 +194,10 @@ AttributeEnd
     Image ref = render("path", 256);
     for (const char* integrator : {"vpl", "lightcuts"}) {
         Image img = render(integrator, 16);
-        // The mean of the per-pixel differences and its standard error (pixel noise only,
-        // not the image's own variation).
-        double n = double(img.pixels.size()), sd = 0, sd2 = 0, sref = 0;
-        for (size_t i = 0; i < img.pixels.size(); ++i) {
-            double d = img.pixels[i].g - ref.pixels[i].g;
-            sd += d, sd2 += d * d, sref += ref.pixels[i].g;
-        }
-        double mean = sd / n, se = std::sqrt(std::max(0.0, sd2 / n - mean * mean) / (n - 1));
+        test::MeanDifference d = test::mean_difference(img, ref, 1);
         // Lightcuts' own error is within its 2% of each pixel.
-        EXPECT_NEAR(mean, 0, 4 * se + 0.02 * sref / n) << integrator;
+        EXPECT_NEAR(d.mean, 0, 4 * d.stderr_of_mean + 0.02 * d.reference_mean) << integrator;
         std::printf("%s: mean difference %+.4f (reference mean %.4f, standard error %.4f)\n",
-                    integrator, mean, sref / n, se);
+                    integrator, d.mean, d.reference_mean, d.stderr_of_mean);
     }
 }

@@ -7,27 +7,6 @@
 
 using namespace ml;
 
-namespace {
-
-std::string furnace_scene(float albedo, float Le) {
-    return fmt::format(R"(
-LookAt 0 0 0  0 0 1  0 1 0
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 24 ] "integer yresolution" [ 24 ]
-Sampler "independent"
-PixelFilter "box"
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
-  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
-  Shape "sphere" "float radius" [ 3 ]
-AttributeEnd
-)",
-                       Le, albedo);
-}
-
-}  // namespace
-
 TEST(LightTracer, WhiteFurnaceHoldsAtEachDepth) {
     // Depth d: Le (1 + a + ... + a^d); splats reach every pixel with their own noise.
     for (int depth : {0, 3}) {
@@ -36,7 +15,7 @@ TEST(LightTracer, WhiteFurnaceHoldsAtEachDepth) {
         opt.spp = 64;
         opt.max_depth = depth;
         opt.seed = 5;
-        Image img = test::render_text(furnace_scene(0.5f, 1.f), opt).image;
+        Image img = test::render_text(test::furnace_scene(0.5f, 1.f), opt).image;
         double expected = (1 - std::pow(0.5, depth + 1)) / 0.5;
         for (int c = 0; c < 3; ++c) {
             test::ChannelStats st = test::channel_stats(img, c);

@@ -10,26 +10,6 @@ using namespace ml;
 
 namespace {
 
-std::string furnace_scene(float albedo, float Le) {
-    return fmt::format(R"(
-LookAt 0 0 0  0 0 1  0 1 0
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-Sampler "independent"
-PixelFilter "box"
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
-  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
-  Shape "sphere" "float radius" [ 3 ]
-AttributeEnd
-)",
-                       Le, albedo);
-}
-
-const std::string kPointLight = R"(LightSource "point" "rgb I" [ 60000 50000 30000 ]
-  "point3 from" [ 278 500 279 ])";
-
 std::map<std::string, std::string> small_bootstrap() {
     return {{"mlt.bootstrap", "20000"}, {"mlt.chains", "64"}};
 }
@@ -39,7 +19,8 @@ std::map<std::string, std::string> small_bootstrap() {
 TEST(Mlt, WhiteFurnaceHoldsAtDepthThree) {
     // Le (1 + a + a^2 + a^3); the two seeds' spread sets the tolerance (the image's scale b
     // comes from the bootstrap, whose noise moves every pixel together).
-    auto r = test::render_twice(furnace_scene(0.5f, 1.f), "mlt", 64, 3, 16, small_bootstrap());
+    auto r =
+        test::render_twice(test::furnace_scene(0.5f, 1.f, 16), "mlt", 64, 3, 16, small_bootstrap());
     double expected = 1.875;
     for (int c = 0; c < 3; ++c) {
         double m1 = test::channel_stats(r.a, c).mean, m2 = test::channel_stats(r.b, c).mean;
@@ -64,7 +45,7 @@ TEST(Mlt, AgreesWithPathThroughGlassAndMirrors) {
 
 TEST(Mlt, AgreesWithBdptForPointLightCausticsThroughGlass) {
     // Path tracing cannot find these caustics; BDPT (tested against light tracing) can.
-    std::string scene = test::cornell_variant(test::glass_and_mirror(), kPointLight);
+    std::string scene = test::cornell_variant(test::glass_and_mirror(), test::kCornellPointLight);
     auto m = test::render_twice(scene, "mlt", 128, 4, 32, small_bootstrap());
     auto b = test::render_twice(scene, "bdpt", 64, 4, 32);
     test::expect_agreement(m, b, 16, "mlt vs bdpt, point light, glass and mirror");

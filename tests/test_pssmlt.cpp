@@ -41,22 +41,6 @@ RenderOutput render_pssmlt(const std::string& scene, int res, int mpp, uint64_t 
     return test::render_text(scene, opt);
 }
 
-std::string furnace_scene(float albedo, float Le) {
-    return fmt::format(R"(
-LookAt 0 0 0  0 0 1  0 1 0
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 24 ] "integer yresolution" [ 24 ]
-PixelFilter "box"
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
-  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
-  Shape "sphere" "float radius" [ 3 ]
-AttributeEnd
-)",
-                       Le, albedo);
-}
-
 }  // namespace
 
 TEST(Pssmlt, WhiteFurnace) {
@@ -67,7 +51,7 @@ TEST(Pssmlt, WhiteFurnace) {
     const int max_depth = 4;
     const double expected = Le * (1 - std::pow(a, max_depth + 1)) / (1 - a);
     for (const char* estimator : {"bdpt", "path"}) {
-        RenderOutput out = render_pssmlt(furnace_scene(a, Le), 24, 64, 3,
+        RenderOutput out = render_pssmlt(test::furnace_scene(a, Le), 24, 64, 3,
                                          {{"pssmlt.maxdepth", std::to_string(max_depth)},
                                           {"pssmlt.bootstrap", "20000"},
                                           {"pssmlt.estimator", estimator}});

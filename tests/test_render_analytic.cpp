@@ -9,24 +9,6 @@ using namespace ml;
 
 namespace {
 
-// A camera inside a closed sphere of albedo `a` that emits Le from every point (two-sided).
-std::string furnace_scene(float albedo, float Le) {
-    return fmt::format(R"(
-LookAt 0 0 0  0 0 1  0 1 0
-Camera "perspective" "float fov" [ 60 ]
-Film "rgb" "integer xresolution" [ 24 ] "integer yresolution" [ 24 ]
-Sampler "independent"
-PixelFilter "box"
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [ {0} {0} {0} ] "bool twosided" true
-  Material "diffuse" "rgb reflectance" [ {1} {1} {1} ]
-  Shape "sphere" "float radius" [ 3 ]
-AttributeEnd
-)",
-                       Le, albedo);
-}
-
 void expect_furnace(const std::string& integrator, int max_depth, float albedo, float Le,
                     double expected) {
     RenderOptions opt;
@@ -34,7 +16,7 @@ void expect_furnace(const std::string& integrator, int max_depth, float albedo, 
     opt.spp = 64;
     opt.max_depth = max_depth;
     opt.seed = 7;
-    RenderOutput out = test::render_text(furnace_scene(albedo, Le), opt);
+    RenderOutput out = test::render_text(test::furnace_scene(albedo, Le), opt);
     for (int c = 0; c < 3; ++c) {
         test::ChannelStats st = test::channel_stats(out.image, c);
         // 5 standard errors plus the tessellated sphere's tiny geometric error.
@@ -173,12 +155,8 @@ AttributeEnd
         return test::render_text(scene, opt).image;
     };
     Image power = render("power", 1), uniform = render("uniform", 2);
-    double n = double(power.pixels.size()), sd = 0, sd2 = 0, sref = 0;
-    for (size_t i = 0; i < power.pixels.size(); ++i) {
-        double d = power.pixels[i].g - uniform.pixels[i].g;
-        sd += d, sd2 += d * d, sref += uniform.pixels[i].g;
-    }
-    double mean = sd / n, se = std::sqrt(std::max(0.0, sd2 / n - mean * mean) / (n - 1));
-    std::printf("power - uniform: %+.5f (mean %.4f, standard error %.5f)\n", mean, sref / n, se);
-    EXPECT_NEAR(mean, 0.0, 4 * se);
+    test::MeanDifference d = test::mean_difference(power, uniform, 1);
+    std::printf("power - uniform: %+.5f (mean %.4f, standard error %.5f)\n", d.mean,
+                d.reference_mean, d.stderr_of_mean);
+    EXPECT_NEAR(d.mean, 0.0, 4 * d.stderr_of_mean);
 }
