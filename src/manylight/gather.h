@@ -1,5 +1,5 @@
-// Shading with point lights: where a camera path gathers (its first non-delta hit), and what one
-// point light gives there. Shared by the brute-force `vpl` integrator and `lightcuts`, so both
+// Shading with point lights: where a camera path gathers (every hit with a non-delta part along
+// its delta chain), and what one point light gives there. Shared by the brute-force `vpl` integrator and `lightcuts`, so both
 // shade with exactly the same arithmetic.
 #pragma once
 
