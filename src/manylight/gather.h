@@ -1,6 +1,6 @@
 // Shading with point lights: where a camera path gathers (every hit with a non-delta part along
-// its delta chain), and what one point light gives there. Shared by the brute-force `vpl` integrator and `lightcuts`, so both
-// shade with exactly the same arithmetic.
+// its delta chain), and what one point light gives there. Shared by the brute-force `vpl`
+// integrator and `lightcuts`, so both shade with exactly the same arithmetic.
 #pragma once
 
 #include <optional>
