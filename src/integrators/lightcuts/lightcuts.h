@@ -3,6 +3,10 @@
 // the largest error bound, until every node's bound is below `lightcuts.error` (default 2%) of
 // the current estimate or the cut holds `lightcuts.max_cut` nodes. A node is shaded by its
 // representative light alone (one shadow ray) and stands for the whole cluster's intensity.
+// Each node keeps `lightcuts.reps` (default 8) representatives, each drawn in proportion to
+// intensity; a gather point shades with the k-th of every node, k drawn from its sampler, so
+// the samples of a pixel make independent errors that average out (1: Walter's one
+// representative, whose error repeats at every sample).
 //
 // `lightcuts.criterion` says when a cut is fine enough:
 // - "max" (default): Walter et al.'s test, every node's bound below the error times the estimate.
