@@ -2,6 +2,7 @@
 #pragma once
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -55,6 +56,21 @@ AttributeBegin
 AttributeEnd
 )",
                        Le, albedo, res);
+}
+
+// Renders the furnace (albedo 0.5, Le 1) with `opt` and expects every channel's mean to be the
+// geometric series cut at the path depth: Le (1 - a^(d+1)) / (1 - a), within 5 standard errors
+// plus the tessellated sphere's tiny geometric error.
+inline void expect_furnace(RenderOptions opt, int max_depth, float albedo = 0.5f, float Le = 1.f,
+                           int res = 24) {
+    opt.max_depth = max_depth;
+    Image img = render_text(furnace_scene(albedo, Le, res), opt).image;
+    double expected = Le * (1 - std::pow(double(albedo), max_depth + 1)) / (1 - albedo);
+    for (int c = 0; c < 3; ++c) {
+        ChannelStats st = channel_stats(img, c);
+        EXPECT_NEAR(st.mean, expected, 5 * st.stderr_of_mean + 2e-3 * expected)
+            << opt.integrator << " depth " << max_depth << " channel " << c;
+    }
 }
 
 struct MeanDifference {

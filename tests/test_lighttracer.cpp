@@ -13,15 +13,8 @@ TEST(LightTracer, WhiteFurnaceHoldsAtEachDepth) {
         RenderOptions opt;
         opt.integrator = "lighttracer";
         opt.spp = 64;
-        opt.max_depth = depth;
         opt.seed = 5;
-        Image img = test::render_text(test::furnace_scene(0.5f, 1.f), opt).image;
-        double expected = (1 - std::pow(0.5, depth + 1)) / 0.5;
-        for (int c = 0; c < 3; ++c) {
-            test::ChannelStats st = test::channel_stats(img, c);
-            EXPECT_NEAR(st.mean, expected, 5 * st.stderr_of_mean + 2e-3 * expected)
-                << "depth " << depth << " channel " << c;
-        }
+        test::expect_furnace(opt, depth);
     }
 }
 
