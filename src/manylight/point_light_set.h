@@ -19,7 +19,9 @@ struct PointLightOptions {
     int vpl_max_depth = 5;  // most VPLs along one light path
     GlossyVpls vpl_glossy = GlossyVpls::Bsdf;  // VPLs on glossy surfaces (point_light.h)
     bool emitters = true;                      // include the emitters' point lights
-    bool vpls = true;                          // include VPLs
+    // Leave out the area and infinite lights (lights.direct=sample: they are sampled instead).
+    bool sampled_direct = false;
+    bool vpls = true;  // include VPLs
     uint64_t seed = 0;
 };
 
