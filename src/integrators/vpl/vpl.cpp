@@ -8,7 +8,9 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     ManyLightSettings m;
     m.max_depth = s.get_int("maxdepth", 5);
     m.lights.vpl_count = s.get_int("vpl.count", m.lights.vpl_count);
-    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", m.lights.vpl_max_depth);
+    // A VPL deposited at a light path's b-th bounce lights paths of b + 1 bounces, so light
+    // paths stop where the path tracer's would (maxdepth bounces) unless told otherwise.
+    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1));
     std::string glossy = s.get_string("vpl.glossy", "bsdf");
     if (glossy == "bsdf")
         m.lights.vpl_glossy = GlossyVpls::Bsdf;
