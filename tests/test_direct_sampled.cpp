@@ -113,10 +113,16 @@ TEST(SampledDirect, LightcutsWithinTheErrorOfTheExactSum) {
     EXPECT_NE(lc.figures.extra_json.find("\"direct\": \"sample\""), std::string::npos);
 }
 
-TEST(SampledDirect, RejectsUnknownModes) {
+TEST(SampledDirect, RejectsUnknownModesAndUnusedCounts) {
     RenderOptions opt;
     opt.integrator = "vpl";
     opt.set["lights.direct"] = "maybe";
+    EXPECT_THROW(test::render_text(test::furnace_scene(0.5f, 1.f, 4), opt), std::exception);
+    opt.set["lights.direct"] = "points";
+    opt.set["lights.direct_samples"] = "8";
+    EXPECT_THROW(test::render_text(test::furnace_scene(0.5f, 1.f, 4), opt), std::exception);
+    opt.set["lights.direct"] = "sample";
+    opt.set["lights.direct_samples"] = "0";
     EXPECT_THROW(test::render_text(test::furnace_scene(0.5f, 1.f, 4), opt), std::exception);
 }
 

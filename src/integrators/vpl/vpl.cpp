@@ -30,7 +30,9 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
         m.lights.sampled_direct = true;
     else if (direct != "points")
         throw UsageError("lights.direct must be points or sample, not " + direct);
-    m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
+    // Read only when sampling, so that a count given with `points` is reported as unused.
+    if (m.lights.sampled_direct)
+        m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
     if (m.direct_samples < 1) throw UsageError("lights.direct_samples must be at least 1");
     if (m.max_depth < 0 || m.lights.vpl_count < 0 || m.lights.vpl_max_depth < 1 ||
         m.lights.area_count < 1 || m.lights.env_count < 1 || m.clamp < 0)
