@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/rng.h"
+#include "integrators/mlt/bidir_mutation.h"
 #include "integrators/mlt/mutations.h"
 #include "lights/light_sampler.h"
 
@@ -20,6 +21,11 @@ MltIntegrator::MltIntegrator(const Settings& settings, bool coherent) : m_cohere
     m_chains = settings.get_int("chains", 256);
     m_bidirectional_prob = settings.get_float("bidirectional_prob", 0.3f);
     m_lens_prob = settings.get_float("lens_prob", 0.4f);
+    std::string bidirectional = settings.get_string("bidirectional", "partial");
+    if (bidirectional != "partial" && bidirectional != "whole")
+        throw UsageError(name() + ": bidirectional must be \"partial\" or \"whole\", not \"" +
+                         bidirectional + "\"");
+    m_partial = bidirectional == "partial";
     if (m_max_depth < 0) throw UsageError(name() + ": maxdepth must be >= 0");
     if (m_bootstrap < 1 || m_chains < 1)
         throw UsageError(name() + ": bootstrap and chains must be >= 1");
@@ -59,6 +65,8 @@ struct Chain {
     RGB W;             // f(x) / q(x), black when not known
     int64_t next = 0;  // index of the next mutation
     int64_t accepted = 0;
+    // Per mutation (bidirectional, lens, caustic): times chosen, times accepted.
+    int64_t chosen_by[3] = {0, 0, 0}, accepted_by[3] = {0, 0, 0};
     std::unique_ptr<ScratchBuffer> current, spare;
 };
 
@@ -152,13 +160,18 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 ch.spare->reset();
                 float u = sampler.get_1d();
                 std::optional<Proposal> p;
-                if (u < m_bidirectional_prob)
-                    p = mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
-                else if (u < m_bidirectional_prob + m_lens_prob)
+                int kind = u < m_bidirectional_prob                 ? 0
+                           : u < m_bidirectional_prob + m_lens_prob ? 1
+                                                                    : 2;
+                if (kind == 0)
+                    p = m_partial ? mutate_bidirectional_partial(bctx, ch.x, sampler, *ch.spare)
+                                  : mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
+                else if (kind == 1)
                     p = m_coherent ? mutate_lens_multiple_try(bctx, ch.x, sampler, *ch.spare)
                                    : mutate_lens(bctx, ch.x, sampler, *ch.spare);
                 else
                     p = mutate_caustic(bctx, ch.x, sampler, *ch.spare);
+                ++ch.chosen_by[kind];
                 float a = p ? p->accept : 0.f;
                 if (p) splat(p->y, p->colour * a);
                 splat(ch.x, ch.colour * (1 - a));
@@ -168,6 +181,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                     ch.W = p->W;
                     std::swap(ch.current, ch.spare);
                     ++ch.accepted;
+                    ++ch.accepted_by[kind];
                 }
             }
         });
@@ -193,11 +207,21 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
               float(sum[3 * size_t(p) + 2] * scale));
         if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
     }
-    int64_t accepted = 0;
-    for (const Chain& c : chains) accepted += c.accepted;
+    int64_t accepted = 0, chosen_by[3] = {0, 0, 0}, accepted_by[3] = {0, 0, 0};
+    for (const Chain& c : chains) {
+        accepted += c.accepted;
+        for (int k = 0; k < 3; ++k)
+            chosen_by[k] += c.chosen_by[k], accepted_by[k] += c.accepted_by[k];
+    }
+    auto rate = [](int64_t n, int64_t d) { return double(n) / double(std::max<int64_t>(d, 1)); };
     result.extra_json = fmt::format(
-        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}}}",
-        name(), b, n_chains, done, double(accepted) / double(std::max<int64_t>(done, 1)));
+        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}, "
+        "\"bidirectional\": \"{}\", \"proposed\": {{\"bidirectional\": {}, \"lens\": {}, "
+        "\"caustic\": {}}}, \"acceptance_by_mutation\": {{\"bidirectional\": {:.4f}, "
+        "\"lens\": {:.4f}, \"caustic\": {:.4f}}}}}",
+        name(), b, n_chains, done, rate(accepted, done), m_partial ? "partial" : "whole",
+        chosen_by[0], chosen_by[1], chosen_by[2], rate(accepted_by[0], chosen_by[0]),
+        rate(accepted_by[1], chosen_by[1]), rate(accepted_by[2], chosen_by[2]));
     result.spp = int(done / pixels);
     return result;
 }
