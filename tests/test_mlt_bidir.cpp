@@ -1,7 +1,7 @@
 // Veach's partial bidirectional mutation for path-space MLT (bidir_mutation.h): its acceptance
 // ratio against a brute-force evaluation of f and of the proposal densities T, MLT restricted to
 // it against path tracing (area light; glass and mirrors) and BDPT (point-light caustics), the
-// white furnace, and the setting that picks it.
+// white furnace, and the settings that pick it.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -20,11 +20,9 @@ namespace {
 
 // MLT with only the partial bidirectional mutation.
 std::map<std::string, std::string> partial_only() {
-    return {{"mlt.bootstrap", "20000"},
-            {"mlt.chains", "64"},
-            {"mlt.bidirectional", "partial"},
-            {"mlt.bidirectional_prob", "1"},
-            {"mlt.lens_prob", "0"}};
+    return {{"mlt.bootstrap", "20000"},       {"mlt.chains", "64"},
+            {"mlt.bidirectional", "partial"}, {"mlt.whole_prob", "0"},
+            {"mlt.bidirectional_prob", "1"},  {"mlt.lens_prob", "0"}};
 }
 
 // The scene, camera and light sampler of a scene text, for direct use of the mutation.
@@ -239,12 +237,14 @@ TEST(MltBidir, AgreesWithBdptForPointLightCausticsThroughGlass) {
     test::expect_agreement(m, b, 16, "mlt (partial bidirectional) vs bdpt, point light");
 }
 
-TEST(MltBidir, UnknownBidirectionalSettingIsAUsageError) {
+TEST(MltBidir, BadBidirectionalSettingsAreUsageErrors) {
     RenderOptions opt;
     opt.integrator = "mlt";
     opt.spp = 1;
     opt.width = opt.height = 8;
     opt.set = {{"mlt.bidirectional", "halfway"}};
+    EXPECT_THROW(test::render_text(test::cornell_variant(), opt), UsageError);
+    opt.set = {{"mlt.whole_prob", "1.5"}};
     EXPECT_THROW(test::render_text(test::cornell_variant(), opt), UsageError);
     opt.set = {{"mlt.bidirectional", "whole"}, {"mlt.bootstrap", "1000"}};
     EXPECT_NO_THROW(test::render_text(test::cornell_variant(), opt));

@@ -26,6 +26,9 @@ MltIntegrator::MltIntegrator(const Settings& settings, bool coherent) : m_cohere
         throw UsageError(name() + ": bidirectional must be \"partial\" or \"whole\", not \"" +
                          bidirectional + "\"");
     m_partial = bidirectional == "partial";
+    m_whole_prob = settings.get_float("whole_prob", 0.5f);
+    if (!(m_whole_prob >= 0 && m_whole_prob <= 1))
+        throw UsageError(name() + ": whole_prob must be in [0, 1]");
     if (m_max_depth < 0) throw UsageError(name() + ": maxdepth must be >= 0");
     if (m_bootstrap < 1 || m_chains < 1)
         throw UsageError(name() + ": bootstrap and chains must be >= 1");
@@ -65,8 +68,9 @@ struct Chain {
     RGB W;             // f(x) / q(x), black when not known
     int64_t next = 0;  // index of the next mutation
     int64_t accepted = 0;
-    // Per mutation (bidirectional, lens, caustic): times chosen, times accepted.
-    int64_t chosen_by[3] = {0, 0, 0}, accepted_by[3] = {0, 0, 0};
+    // Per mutation (partial bidirectional, lens, caustic, whole-path bidirectional): times
+    // chosen, times accepted.
+    int64_t chosen_by[4] = {0, 0, 0, 0}, accepted_by[4] = {0, 0, 0, 0};
     std::unique_ptr<ScratchBuffer> current, spare;
 };
 
@@ -163,9 +167,13 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 int kind = u < m_bidirectional_prob                 ? 0
                            : u < m_bidirectional_prob + m_lens_prob ? 1
                                                                     : 2;
+                // Bidirectional: the whole path replaced with probability whole_prob (or
+                // always, bidirectional=whole), else Veach's partial mutation.
+                if (kind == 0 && (!m_partial || u < m_bidirectional_prob * m_whole_prob)) kind = 3;
                 if (kind == 0)
-                    p = m_partial ? mutate_bidirectional_partial(bctx, ch.x, sampler, *ch.spare)
-                                  : mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
+                    p = mutate_bidirectional_partial(bctx, ch.x, sampler, *ch.spare);
+                else if (kind == 3)
+                    p = mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
                 else if (kind == 1)
                     p = m_coherent ? mutate_lens_multiple_try(bctx, ch.x, sampler, *ch.spare)
                                    : mutate_lens(bctx, ch.x, sampler, *ch.spare);
@@ -207,21 +215,28 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
               float(sum[3 * size_t(p) + 2] * scale));
         if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
     }
-    int64_t accepted = 0, chosen_by[3] = {0, 0, 0}, accepted_by[3] = {0, 0, 0};
+    int64_t accepted = 0, chosen_by[4] = {0, 0, 0, 0}, accepted_by[4] = {0, 0, 0, 0};
     for (const Chain& c : chains) {
         accepted += c.accepted;
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 4; ++k)
             chosen_by[k] += c.chosen_by[k], accepted_by[k] += c.accepted_by[k];
     }
     auto rate = [](int64_t n, int64_t d) { return double(n) / double(std::max<int64_t>(d, 1)); };
+    // Per mutation: how often it was chosen and the share of those accepted ("bidirectional" is
+    // the partial one, "whole" the whole-path replacement).
+    const char* names[4] = {"bidirectional", "lens", "caustic", "whole"};
+    std::string proposed, acceptance;
+    for (int k = 0; k < 4; ++k) {
+        proposed += fmt::format("{}\"{}\": {}", k ? ", " : "", names[k], chosen_by[k]);
+        acceptance += fmt::format("{}\"{}\": {:.4f}", k ? ", " : "", names[k],
+                                  rate(accepted_by[k], chosen_by[k]));
+    }
     result.extra_json = fmt::format(
         "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}, "
-        "\"bidirectional\": \"{}\", \"proposed\": {{\"bidirectional\": {}, \"lens\": {}, "
-        "\"caustic\": {}}}, \"acceptance_by_mutation\": {{\"bidirectional\": {:.4f}, "
-        "\"lens\": {:.4f}, \"caustic\": {:.4f}}}}}",
+        "\"bidirectional\": \"{}\", \"whole_prob\": {}, \"proposed\": {{{}}}, "
+        "\"acceptance_by_mutation\": {{{}}}}}",
         name(), b, n_chains, done, rate(accepted, done), m_partial ? "partial" : "whole",
-        chosen_by[0], chosen_by[1], chosen_by[2], rate(accepted_by[0], chosen_by[0]),
-        rate(accepted_by[1], chosen_by[1]), rate(accepted_by[2], chosen_by[2]));
+        m_partial ? m_whole_prob : 1.f, proposed, acceptance);
     result.spp = int(done / pixels);
     return result;
 }

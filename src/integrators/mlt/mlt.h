@@ -14,8 +14,12 @@
 // min(1, f(y) T(y -> x) / (f(x) T(x -> y))), where T sums the added vertices' densities over
 // every split (BDPT's strategy densities restricted to the deleted subpath; the kept vertices'
 // factors cancel). Deleting everything (probability 2^-(n+1) / sum for n vertices) is the old
-// whole-path proposal, which keeps the chain ergodic; `bidirectional=whole` uses only that one
-// (a new BDPT path of the same depth, accepted by W = f / q).
+// whole-path proposal (a new BDPT path of the same depth, accepted by W = f / q), which keeps the
+// chain ergodic; that alone is too rare: a path such as E S S D S S D L can change only its last
+// vertices by partial deletions (the others would connect at a specular vertex) and no
+// perturbation applies to it, so its chain stays in one pixel for thousands of mutations. Half
+// of the bidirectional mutations (whole_prob) therefore replace the whole path;
+// `bidirectional=whole` makes them all do so.
 //
 // `cmlt` is the same with coherent MLT's lens perturbation (Segovia et al. 2007): multiple-try
 // Metropolis over four perturbed camera rays traced as one Embree packet
@@ -23,7 +27,9 @@
 //
 // Settings (mlt.KEY or cmlt.KEY): maxdepth (5), bootstrap (100000 paths per depth), chains (256),
 // bidirectional_prob (0.3), lens_prob (0.4); the rest of the mutations are caustic perturbations;
-// bidirectional (partial | whole; partial). `--stats` reports each mutation's acceptance rate.
+// bidirectional (partial | whole; partial), whole_prob (0.5: with partial, the share of
+// bidirectional mutations that replace the whole path). `--stats` reports each mutation's
+// acceptance rate.
 // Lights: area, point and spot (environment and distant lights are refused). Pixel filter: box
 // (splats).
 #pragma once
@@ -43,7 +49,8 @@ public:
 private:
     int m_max_depth, m_bootstrap, m_chains;
     float m_bidirectional_prob, m_lens_prob;
-    bool m_partial;  // bidirectional=partial: Veach's deletion and regrowth of a subpath
+    bool m_partial;      // bidirectional=partial: Veach's deletion and regrowth of a subpath
+    float m_whole_prob;  // with partial: the share of whole-path bidirectional proposals
     bool m_coherent;
 };
 
