@@ -6,7 +6,11 @@ percentiles, as the number of VPLs grows.
 The brute force is O(lights) per pixel, so both integrators render a small image for the
 comparison (said in the table); `lightcuts` is also timed alone at the larger resolution.
 Usage: bench/lightcuts_scaling.py SCENE [--counts 1000,10000,100000] [--glossy bsdf|diffuse|skip]
-       [--exact-max 100000] [--small 48x27] [--small-spp 4] [--no-append]
+       [--direct points|sample] [--error 0.02] [--exact-max 100000] [--small 48x27]
+       [--small-spp 4] [--no-append]
+
+--direct sample: the area and infinite lights' direct light by next-event estimation
+(lights.direct=sample), so the tree holds the VPLs and the delta lights only.
 
 The large image is rendered by lightcuts alone at 1 spp (cut sizes, times); the small one by both
 integrators at --small-spp samples per pixel (speedup, and the per-pixel error of the average of
@@ -32,12 +36,19 @@ def arg(name, default):
     return default
 
 
+DIRECT = "points"
+ERROR = "0.02"
+
+
 def render(scene, integrator, count, res, glossy, tmp, spp=1):
     out = os.path.join(tmp, f"{integrator}-{count}-{res}.pfm")
     stats = out + ".json"
     cmd = [BIN, "render", scene, "-q", "--threads", "2", "--spp", str(spp), "--seed", "1",
            "--resolution", res, "--integrator", integrator, "--set", f"vpl.count={count}",
-           "--set", f"vpl.glossy={glossy}", "-o", out, "--stats", stats]
+           "--set", f"vpl.glossy={glossy}", "--set", f"lights.direct={DIRECT}", "-o", out,
+           "--stats", stats]
+    if integrator == "lightcuts":
+        cmd += ["--set", f"lightcuts.error={ERROR}"]
     t0 = time.time()
     subprocess.run(cmd, check=True)
     with open(stats) as f:
@@ -76,7 +87,10 @@ def percentiles(a, b):
 
 
 def main():
+    global DIRECT, ERROR
     scene = sys.argv[1]
+    DIRECT = arg("--direct", "points")
+    ERROR = arg("--error", "0.02")
     counts = [int(c) for c in arg("--counts", "1000,10000,100000").split(",")]
     glossy = arg("--glossy", "diffuse")
     exact_max = int(arg("--exact-max", "100000"))
@@ -93,7 +107,8 @@ def main():
                 row["exs"] = exs
                 row["pct"] = percentiles(lc_small, ex_small)
             rows.append(row)
-    lines = [f"Scene `{os.path.relpath(scene, ROOT)}`, vpl.glossy={glossy}, error 0.02, 2 threads; "
+    lines = [f"Scene `{os.path.relpath(scene, ROOT)}`, vpl.glossy={glossy}, lights.direct={DIRECT}, "
+             f"error {ERROR}, 2 threads; "
              f"{large} at 1 spp, {small} at {small_spp} spp.",
              "",
              f"| VPLs | point lights | light set s | tree build s | avg cut | max cut | lightcuts render s ({large}) | lightcuts s ({small}) | vpl s ({small}) | speedup | speedup, shading only | rel. error p50 / p90 / p99 | within 2% |",

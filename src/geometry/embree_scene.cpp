@@ -73,42 +73,102 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
     return true;
 }
 
-void EmbreeScene::intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
-                             bool hit[4]) const {
+namespace {
+
+// Lane i of an Embree ray packet (RTCRay4/8 or the ray of an RTCRayHit4/8) set from `r`.
+template <typename RayN>
+void set_lane(RayN& p, int i, const Ray& r) {
+    p.org_x[i] = r.o.x;
+    p.org_y[i] = r.o.y;
+    p.org_z[i] = r.o.z;
+    p.dir_x[i] = r.d.x;
+    p.dir_y[i] = r.d.y;
+    p.dir_z[i] = r.d.z;
+    p.tnear[i] = 0.f;
+    p.tfar[i] = r.tmax;
+    p.time[i] = r.time;
+    p.mask[i] = 0xffffffffu;
+    p.id[i] = unsigned(i);
+    p.flags[i] = 0;
+}
+
+void trace(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit4* rh) {
+    rtcIntersect4(valid, s, c, rh);
+}
+void trace(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit8* rh) {
+    rtcIntersect8(valid, s, c, rh);
+}
+void trace(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay4* r) {
+    rtcOccluded4(valid, s, c, r);
+}
+void trace(const int* valid, RTCScene s, RTCIntersectContext* c, RTCRay8* r) {
+    rtcOccluded8(valid, s, c, r);
+}
+
+}  // namespace
+
+template <int N, typename RayHitN>
+void EmbreeScene::intersect_n(const Ray* rays, const bool* active, SurfaceInteraction* si,
+                              bool* hit) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(16) int valid[4];
-    RTCRayHit4 rh;
-    for (int i = 0; i < 4; ++i) {
+    alignas(32) int valid[N];
+    alignas(32) RayHitN rh;
+    for (int i = 0; i < N; ++i) {
         valid[i] = active[i] ? -1 : 0;
-        hit[i] = false;
-        const Ray& r = rays[i];
-        rh.ray.org_x[i] = r.o.x;
-        rh.ray.org_y[i] = r.o.y;
-        rh.ray.org_z[i] = r.o.z;
-        rh.ray.dir_x[i] = r.d.x;
-        rh.ray.dir_y[i] = r.d.y;
-        rh.ray.dir_z[i] = r.d.z;
-        rh.ray.tnear[i] = 0.f;
-        rh.ray.tfar[i] = r.tmax;
-        rh.ray.time[i] = r.time;
-        rh.ray.mask[i] = 0xffffffffu;
-        rh.ray.id[i] = unsigned(i);
-        rh.ray.flags[i] = 0;
+        // Inactive lanes still hold finite values: Embree reads every lane.
+        set_lane(rh.ray, i, active[i] ? rays[i] : Ray{Vec3(), Vec3(0, 0, 1), 0.f});
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect4(valid, m_impl->scene, &ctx, &rh);
-    for (int i = 0; i < 4; ++i) {
+    trace(valid, m_impl->scene, &ctx, &rh);
+    for (int i = 0; i < N; ++i) {
         if (!active[i]) continue;
         stats::count_ray();
-        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-        hit[i] = true;
+        hit[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (!hit[i]) continue;
         fill_interaction(rays[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i],
                          rh.ray.tfar[i], Vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]),
                          &si[i]);
     }
+}
+
+template <int N, typename RayN>
+void EmbreeScene::occluded_n(const Ray* rays, const bool* active, bool* occluded) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[N];
+    alignas(32) RayN r;
+    for (int i = 0; i < N; ++i) {
+        valid[i] = active[i] ? -1 : 0;
+        set_lane(r, i, active[i] ? rays[i] : Ray{Vec3(), Vec3(0, 0, 1), 0.f});
+    }
+    trace(valid, m_impl->scene, &ctx, &r);
+    for (int i = 0; i < N; ++i) {
+        if (!active[i]) continue;
+        stats::count_shadow_ray();
+        occluded[i] = r.tfar[i] < 0.f;
+    }
+}
+
+void EmbreeScene::intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
+                             bool hit[4]) const {
+    intersect_n<4, RTCRayHit4>(rays, active, si, hit);
+}
+
+void EmbreeScene::intersect8(const Ray rays[8], const bool active[8], SurfaceInteraction si[8],
+                             bool hit[8]) const {
+    intersect_n<8, RTCRayHit8>(rays, active, si, hit);
+}
+
+void EmbreeScene::occluded4(const Ray rays[4], const bool active[4], bool occluded[4]) const {
+    occluded_n<4, RTCRay4>(rays, active, occluded);
+}
+
+void EmbreeScene::occluded8(const Ray rays[8], const bool active[8], bool occluded[8]) const {
+    occluded_n<8, RTCRay8>(rays, active, occluded);
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {

@@ -21,14 +21,23 @@ public:
     bool intersect(const Ray& ray, SurfaceInteraction* si) const;
     // True if anything blocks the ray within (0, tmax).
     bool occluded(const Ray& ray) const;
-    // Closest hits of up to four rays traced together as one Embree packet (coherent rays, such
-    // as the neighbouring camera rays of coherent MLT): rays whose `active` is false are not
-    // traced. Fills si[i] and hit[i] as intersect() does.
+    // Packets of four or eight rays traced together (coherent rays, such as the neighbouring
+    // tries of coherent MLT), as rtcIntersect4/8 and rtcOccluded4/8: lanes whose `active` is
+    // false are not traced and their outputs are left untouched. The active lanes' si[i] and
+    // hit[i] are filled as intersect() does, occluded[i] as occluded() answers.
     void intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
                     bool hit[4]) const;
+    void intersect8(const Ray rays[8], const bool active[8], SurfaceInteraction si[8],
+                    bool hit[8]) const;
+    void occluded4(const Ray rays[4], const bool active[4], bool occluded[4]) const;
+    void occluded8(const Ray rays[8], const bool active[8], bool occluded[8]) const;
     Bounds3 bounds() const { return m_bounds; }
 
 private:
+    template <int N, typename RayHitN>
+    void intersect_n(const Ray* rays, const bool* active, SurfaceInteraction* si, bool* hit) const;
+    template <int N, typename RayN>
+    void occluded_n(const Ray* rays, const bool* active, bool* occluded) const;
     void fill_interaction(const Ray& ray, unsigned geom_id, unsigned prim_id, float u, float v,
                           float t, const Vec3& ng_embree, SurfaceInteraction* si) const;
     struct Impl;

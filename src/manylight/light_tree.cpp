@@ -147,11 +147,11 @@ void LightTree::order_depth_first() {
         }
     }
     m_nodes = std::move(ordered);
-    std::vector<int32_t> reps(m_reps.size());
+    // The representatives move into their nodes: a cut reads them with the node's bounds.
     for (size_t i = 0; i < old_of_new.size(); ++i)
         std::copy_n(m_reps.begin() + ptrdiff_t(size_t(old_of_new[i]) * kLightTreeReps),
-                    kLightTreeReps, reps.begin() + ptrdiff_t(i * kLightTreeReps));
-    m_reps = std::move(reps);
+                    kLightTreeReps, m_nodes[i].reps);
+    m_reps = {};
 }
 
 void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind kind,

@@ -31,6 +31,7 @@ struct LightTreeNode {
     int32_t children[2] = {-1, -1};  // node indices; both -1 for a leaf
     int32_t light = -1;  // the representative light (a leaf: its light), index into the lights
     PointLightKind kind = PointLightKind::Omni;
+    int32_t reps[kLightTreeReps] = {};  // representatives per sample (reps[0] == light)
 
     bool is_leaf() const { return children[0] < 0; }
 };
@@ -51,7 +52,7 @@ public:
     // Root node of the tree of one kind, or -1 when there is no light of that kind.
     int32_t root(PointLightKind kind) const { return m_roots[int(kind)]; }
     // Representative k (0 <= k < kLightTreeReps) of node i; 0 is node(i).light.
-    int32_t rep(int32_t i, int k) const { return m_reps[size_t(i) * kLightTreeReps + size_t(k)]; }
+    int32_t rep(int32_t i, int k) const { return m_nodes[size_t(i)].reps[k]; }
     const LightTreeNode& node(int32_t i) const { return m_nodes[size_t(i)]; }
     const std::vector<LightTreeNode>& nodes() const { return m_nodes; }
     size_t node_count() const { return m_nodes.size(); }
@@ -63,7 +64,7 @@ private:
     void order_depth_first();
 
     std::vector<LightTreeNode> m_nodes;
-    std::vector<int32_t> m_reps;  // kLightTreeReps per node
+    std::vector<int32_t> m_reps;  // kLightTreeReps per node while building (then in the nodes)
     int32_t m_roots[3] = {-1, -1, -1};
     size_t m_light_count = 0;
 };

@@ -12,7 +12,8 @@ namespace ml {
 namespace {
 
 // Point lights of the scene's emitters: area lights share options.area_count samples in
-// proportion to power (at least one each), every infinite light gets options.env_count.
+// proportion to power (at least one each), every infinite light gets options.env_count; with
+// options.sampled_direct only the delta lights are added.
 void add_emitters(const Scene& scene, const PointLightOptions& options, PointLightSet& set) {
     const auto& lights = scene.lights();
     double area_power = 0;
@@ -26,6 +27,7 @@ void add_emitters(const Scene& scene, const PointLightOptions& options, PointLig
     auto sampler = create_sampler("independent", 1, options.seed);
     for (size_t i = 0; i < lights.size(); ++i) {
         const Light& light = *lights[i];
+        if (options.sampled_direct && !is_delta_light(light.type())) continue;
         int n = 1;
         if (light.type() == LightType::Area) {
             double share = area_power > 0

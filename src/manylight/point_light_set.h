@@ -16,10 +16,12 @@ struct PointLightOptions {
     int area_count = 1024;  // oriented lights shared over the area lights in proportion to power
     int env_count = 1024;   // directional lights for each infinite light
     int vpl_count = 10000;  // target number of VPLs (at least this many are made)
-    int vpl_max_depth = 5;  // most VPLs along one light path
+    int vpl_max_depth = 5;  // most VPLs along one light path (vpl.max_depth: maxdepth - 1)
     GlossyVpls vpl_glossy = GlossyVpls::Bsdf;  // VPLs on glossy surfaces (point_light.h)
     bool emitters = true;                      // include the emitters' point lights
-    bool vpls = true;                          // include VPLs
+    // Leave out the area and infinite lights (lights.direct=sample: they are sampled instead).
+    bool sampled_direct = false;
+    bool vpls = true;  // include VPLs
     uint64_t seed = 0;
 };
 

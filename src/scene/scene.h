@@ -18,10 +18,20 @@ public:
         return m_embree->intersect(ray, si);
     }
     bool occluded(const Ray& ray) const { return m_embree->occluded(ray); }
-    // Four rays as one packet (EmbreeScene::intersect4).
+    // Packets of four or eight rays (EmbreeScene::intersect4 and the others).
     void intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],
                     bool hit[4]) const {
         m_embree->intersect4(rays, active, si, hit);
+    }
+    void intersect8(const Ray rays[8], const bool active[8], SurfaceInteraction si[8],
+                    bool hit[8]) const {
+        m_embree->intersect8(rays, active, si, hit);
+    }
+    void occluded4(const Ray rays[4], const bool active[4], bool occluded[4]) const {
+        m_embree->occluded4(rays, active, occluded);
+    }
+    void occluded8(const Ray rays[8], const bool active[8], bool occluded[8]) const {
+        m_embree->occluded8(rays, active, occluded);
     }
     // True if nothing blocks the segment from the surface point `si` to the point `p`.
     bool visible(const SurfaceInteraction& si, const Vec3& p) const {

@@ -35,6 +35,8 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
 
 void LightcutsIntegrator::prepare(const Scene& scene) {
     m_set = build_point_light_set(scene, m_settings.lights);
+    if (m_settings.lights.sampled_direct)
+        m_direct = SampledDirectLight(scene, m_settings.direct_samples);
     auto t0 = std::chrono::steady_clock::now();
     LightTreeOptions opts;
     opts.seed = m_settings.lights.seed;
@@ -75,10 +77,11 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
         "\"max_cut_size\": {}, \"gather_points\": {}, \"shadow_rays_per_pixel\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
-        "\"light_paths\": {}{}}}",
+        "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}{}}}",
         m_error, criterion_name(), m_reps, m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
         m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional,
-        m_set.light_paths, verify);
+        m_set.light_paths, m_direct.empty() ? "points" : "sample",
+        m_direct.empty() ? 0 : m_direct.samples(), verify);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
     Image cut(ctx.film.width(), ctx.film.height());
     for (size_t i = 0; i < m_pixel_cut.size(); ++i)
@@ -93,7 +96,9 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
     return gather_along(
         scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float u) {
             int cut_size = 0;
-            RGB c = shade(scene, g, std::min(m_reps - 1, int(u * float(m_reps))), &cut_size);
+            RGB direct = m_direct.estimate(scene, g, sampler);
+            RGB c = direct + shade(scene, g, std::min(m_reps - 1, int(u * float(m_reps))),
+                                   &cut_size, direct);
             m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
             m_gather_points.fetch_add(1, std::memory_order_relaxed);
             int prev = m_cut_max.load(std::memory_order_relaxed);
@@ -107,8 +112,8 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
         });
 }
 
-RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k,
-                               int* cut_size) const {
+RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
+                               const RGB& known) const {
     const Vec3& x = g.si.p;
     const Vec3& wo = g.si.wo;
     // The representative's contribution: exact, with its shadow ray (and VPL clamping).
@@ -159,7 +164,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k,
 
     thread_local std::vector<CutEntry> heap;
     heap.clear();
-    RGB total;
+    RGB total = known;
     // Over the clustered (non-leaf) nodes of the cut: the sum of their bounds and of their
     // squares.
     float bound_sum = 0, bound_sq = 0;

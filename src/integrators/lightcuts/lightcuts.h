@@ -50,7 +50,10 @@ private:
     };
     // The cut at one gather point: its radiance; *cut_size receives the number of nodes.
     // Representative k of every node stands for it (0 <= k < m_reps).
-    RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size) const;
+    // `known`: radiance the gather point gets besides the cut (sampled direct light), which
+    // counts in the estimate the error threshold is relative to.
+    RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
+              const RGB& known = RGB()) const;
     // `lightcuts.verify`: every clustered node of the cut just made against the exact sum over
     // its lights (a shadow ray each): counts nodes whose error exceeds their bound.
     void verify_cut(const Scene& scene, const GatherPoint& g, const std::vector<CutEntry>& cut,
@@ -69,6 +72,7 @@ private:
     mutable std::atomic<uint64_t> m_verified_nodes{0}, m_violations{0};
     mutable std::atomic<double> m_verify_abs_error{0}, m_verify_bounds{0}, m_verify_total{0};
     PointLightSet m_set;
+    SampledDirectLight m_direct;
     LightTree m_tree;
     double m_tree_seconds = 0;
     // Figures: cut sizes summed over gather points, the largest cut, and per pixel.

@@ -10,6 +10,7 @@
 
 #include "core/rng.h"
 #include "integrators/mlt/bidir_mutation.h"
+#include "integrators/mlt/coherent.h"
 #include "integrators/mlt/mutations.h"
 #include "lights/light_sampler.h"
 
@@ -153,8 +154,8 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
             Chain& ch = chains[size_t(c)];
             Sampler& sampler = *samplers.local();
             std::vector<Splat>& out = splats[size_t(c)];
-            auto splat = [&](const MltPath& p, const RGB& v) {
-                int x = int(p.p_raster.x), y = int(p.p_raster.y);
+            auto splat = [&](const Vec2& p_raster, const RGB& v) {
+                int x = int(p_raster.x), y = int(p_raster.y);
                 if (x >= 0 && y >= 0 && x < w && y < h && !v.is_black() && v.is_finite())
                     out.push_back(Splat{uint32_t(y * w + x), v});
             };
@@ -180,9 +181,12 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 else
                     p = mutate_caustic(bctx, ch.x, sampler, *ch.spare);
                 ++ch.chosen_by[kind];
-                float a = p ? p->accept : 0.f;
-                if (p) splat(p->y, p->colour * a);
-                splat(ch.x, ch.colour * (1 - a));
+                float a = p ? p->accept : 0.f, share = p && p->n_tries ? p->tries_share : a;
+                if (p && p->n_tries)
+                    for (int i = 0; i < p->n_tries; ++i) splat(p->tries[i].p_raster, p->tries[i].v);
+                else if (p)
+                    splat(p->y.p_raster, p->colour * a);
+                splat(ch.x.p_raster, ch.colour * (1 - share));
                 if (p && sampler.get_1d() < a) {
                     ch.x = std::move(p->y);
                     ch.colour = p->colour;

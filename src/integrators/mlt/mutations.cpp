@@ -14,12 +14,6 @@ namespace {
 
 Vec3 dir(const PathVertex& from, const PathVertex& to) { return normalize(to.p() - from.p()); }
 
-// True if vertex k of x refracts (its two neighbours lie on opposite sides of its surface).
-bool transmits(const MltPath& x, int k) {
-    const PathVertex& v = x.v[size_t(k)];
-    return dot(dir(v, x.v[size_t(k - 1)]), v.ng()) * dot(dir(v, x.v[size_t(k + 1)]), v.ng()) < 0;
-}
-
 // A surface vertex at the hit of `ray`, with its BSDF.
 std::optional<PathVertex> surface_hit(const BdptScene& ctx, const Ray& ray,
                                       ScratchBuffer& scratch) {
@@ -52,6 +46,11 @@ Proposal make_proposal(MltPath y, const RGB& target_y, const RGB& target_x) {
 }
 
 }  // namespace
+
+bool transmits(const MltPath& x, int k) {
+    const PathVertex& v = x.v[size_t(k)];
+    return dot(dir(v, x.v[size_t(k - 1)]), v.ng()) * dot(dir(v, x.v[size_t(k + 1)]), v.ng()) < 0;
+}
 
 bool mlt_supported(const MltPath& x) {
     if (x.v.size() < 2) return false;
@@ -145,8 +144,6 @@ std::optional<Proposal> mutate_bidirectional(const BdptScene& ctx, const MltPath
     return p;
 }
 
-namespace {
-
 int lens_vertex(const MltPath& x) {
     // The form E S* D (D|L): j is the first vertex that is not specular.
     const int n = int(x.v.size());
@@ -167,12 +164,7 @@ Vec2 lens_offset(const PerspectiveCamera& cam, float u_size, float u_angle) {
     return Vec2(r * std::cos(phi), r * std::sin(phi));
 }
 
-float lens_offset_density(const PerspectiveCamera& cam, const Vec2& a, const Vec2& b) {
-    float r = std::sqrt(sqr(a.x - b.x) + sqr(a.y - b.y)), r_max = lens_offset_max(cam);
-    if (!(r >= 0.1f && r <= r_max)) return 0;
-    // Radial density 1 / (r log(r_max / r_min)), spread over the circle of radius r.
-    return 1 / (r * std::log(r_max / 0.1f) * 2 * kPi * r);
-}
+namespace {
 
 std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, int j, const Vec2& p,
                                       const SurfaceInteraction* first_hit, ScratchBuffer& scratch) {
@@ -224,77 +216,6 @@ std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Samp
     RGB ty = lens_target(ctx, *y, j);
     if (importance_of(ty) == 0) return std::nullopt;
     return make_proposal(std::move(*y), ty, lens_target(ctx, x, j));
-}
-
-std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const MltPath& x,
-                                                 Sampler& sampler, ScratchBuffer& scratch) {
-    constexpr int kTries = 4;
-    Vec2 u[2 * kTries];
-    for (Vec2& v : u) v = sampler.get_2d();
-    float u_pick = sampler.get_1d();
-    int j = lens_vertex(x);
-    if (j < 0) return std::nullopt;
-    const PerspectiveCamera& cam = ctx.camera;
-
-    // Up to four perturbations of `from`, their first hits traced as one packet, and their
-    // weights.
-    struct Try {
-        std::optional<MltPath> y;
-        RGB target;
-        double weight = 0;
-    };
-    auto tries = [&](const MltPath& from, const Vec2* us, int count, const MltPath& to, Try* out) {
-        Ray rays[4];
-        bool active[4] = {false, false, false, false}, hit[4];
-        Vec2 p[4];
-        SurfaceInteraction si[4];
-        for (int i = 0; i < count; ++i) {
-            p[i] = from.p_raster + lens_offset(cam, us[i].x, us[i].y);
-            active[i] = p[i].x >= 0 && p[i].y >= 0 && p[i].x < float(cam.width()) &&
-                        p[i].y < float(cam.height());
-            rays[i] = cam.generate_ray({p[i], from.u_lens, 0});
-        }
-        ctx.scene.intersect4(rays, active, si, hit);
-        for (int i = 0; i < count; ++i) {
-            out[i] = Try();
-            if (!active[i] || !hit[i]) continue;
-            out[i].y = lens_candidate(ctx, from, j, p[i], &si[i], scratch);
-            if (!out[i].y) continue;
-            out[i].target = lens_target(ctx, *out[i].y, j);
-            // w(y) = pi(y) T(y -> to) lambda(y, to) with the symmetric lambda = 1 / T: the
-            // offsets' density is symmetric, so the weight is pi(y) wherever T > 0.
-            out[i].weight = lens_offset_density(cam, out[i].y->p_raster, to.p_raster) > 0
-                                ? double(importance_of(out[i].target))
-                                : 0.0;
-        }
-    };
-
-    // 1. Four tries from x; one of them, y, picked in proportion to its weight.
-    Try ys[kTries];
-    tries(x, u, kTries, x, ys);
-    double sum_y = 0;
-    for (const Try& t : ys) sum_y += t.weight;
-    if (!(sum_y > 0)) return std::nullopt;
-    int pick = 0;
-    for (double acc = 0; pick < kTries - 1; ++pick) {
-        acc += ys[pick].weight;
-        if (u_pick * sum_y < acc) break;
-    }
-    while (ys[pick].weight == 0) --pick;
-
-    // 2. Reference points: three tries from y, and x itself.
-    Try xs[kTries];
-    tries(*ys[pick].y, u + kTries, kTries - 1, *ys[pick].y, xs);
-    double sum_x = double(importance_of(lens_target(ctx, x, j)));
-    for (int i = 0; i < kTries - 1; ++i) sum_x += xs[i].weight;
-
-    // 3. Accept with min(1, sum of the tries' weights / sum of the reference points').
-    Proposal prop;
-    float iy = importance_of(ys[pick].target);
-    prop.accept = sum_x > 0 ? float(std::min(1.0, sum_y / sum_x)) : 1.f;
-    prop.colour = ys[pick].target / iy;
-    prop.y = std::move(*ys[pick].y);
-    return prop;
 }
 
 std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, Sampler& sampler,

@@ -14,6 +14,7 @@
 // point. Every random number comes from the Sampler.
 #pragma once
 
+#include <array>
 #include <optional>
 
 #include "core/scratch.h"
@@ -22,11 +23,22 @@
 
 namespace ml {
 
+// A splat on the film at a raster position.
+struct TrySplat {
+    Vec2 p_raster;
+    RGB v;
+};
+
 struct Proposal {
     MltPath y;
     float accept = 0;  // acceptance probability
     RGB colour;        // f(y) / luminance(f(y))
     RGB W;             // f(y) / q(y) when known (bidirectional proposals), else black
+    // Multiple-try proposals (coherent.h) splat every try by its expected value instead of y by
+    // `accept`: n_tries splats, which take `tries_share` of the current path's splat.
+    std::array<TrySplat, 8> tries;
+    int n_tries = 0;
+    float tries_share = 0;
 };
 
 // Whether a path can be made by BDPT here: its light is an area, point or spot light, and no
@@ -52,13 +64,15 @@ std::optional<Proposal> mutate_bidirectional(const BdptScene& ctx, const MltPath
                                              Sampler& sampler, ScratchBuffer& scratch);
 std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
                                     ScratchBuffer& scratch);
-// Coherent MLT's lens perturbation (Segovia et al. 2007): multiple-try Metropolis with four tries
-// whose camera rays are traced as one Embree packet, weights pi(y) (lambda = 1 / T for the
-// symmetric offsets), and three reference tries from the picked one (plus x); accepted with
-// min(1, sum of weights / sum of references).
-std::optional<Proposal> mutate_lens_multiple_try(const BdptScene& ctx, const MltPath& x,
-                                                 Sampler& sampler, ScratchBuffer& scratch);
 std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, Sampler& sampler,
                                        ScratchBuffer& scratch);
+
+// Shared with the multiple-try lens perturbation (coherent.h): the first non-specular vertex j
+// of a path E S* D (D|L) ... (-1 for other paths), the largest film offset, a film offset from
+// two uniform numbers, and whether vertex k of x refracts (its neighbours lie on opposite sides).
+int lens_vertex(const MltPath& x);
+float lens_offset_max(const PerspectiveCamera& cam);
+Vec2 lens_offset(const PerspectiveCamera& cam, float u_size, float u_angle);
+bool transmits(const MltPath& x, int k);
 
 }  // namespace ml

@@ -8,7 +8,9 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     ManyLightSettings m;
     m.max_depth = s.get_int("maxdepth", 5);
     m.lights.vpl_count = s.get_int("vpl.count", m.lights.vpl_count);
-    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", m.lights.vpl_max_depth);
+    // A VPL deposited at a light path's b-th bounce lights paths of b + 1 bounces, so light
+    // paths stop where the path tracer's would (maxdepth bounces) unless told otherwise.
+    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1));
     std::string glossy = s.get_string("vpl.glossy", "bsdf");
     if (glossy == "bsdf")
         m.lights.vpl_glossy = GlossyVpls::Bsdf;
@@ -23,6 +25,13 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
     m.lights.seed = uint64_t(s.get_int("vpl.seed", 0));
     m.clamp = s.get_float("vpl.clamp", 0.f);
+    std::string direct = s.get_string("lights.direct", "points");
+    if (direct == "sample")
+        m.lights.sampled_direct = true;
+    else if (direct != "points")
+        throw UsageError("lights.direct must be points or sample, not " + direct);
+    m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
+    if (m.direct_samples < 1) throw UsageError("lights.direct_samples must be at least 1");
     if (m.max_depth < 0 || m.lights.vpl_count < 0 || m.lights.vpl_max_depth < 1 ||
         m.lights.area_count < 1 || m.lights.env_count < 1 || m.clamp < 0)
         throw UsageError("vpl settings out of range (counts >= 1, vpl.max_depth >= 1, clamp >= 0)");
@@ -34,6 +43,8 @@ VplIntegrator::VplIntegrator(const Settings& settings)
 
 void VplIntegrator::prepare(const Scene& scene) {
     m_set = build_point_light_set(scene, m_settings.lights);
+    if (m_settings.lights.sampled_direct)
+        m_direct = SampledDirectLight(scene, m_settings.direct_samples);
 }
 
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
@@ -47,7 +58,7 @@ RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, Scra
                       Point2i pixel) const {
     return gather_along(scene, ray, sampler, scratch, m_settings.max_depth,
                         [&](const GatherPoint& g, float) {
-                            RGB L;
+                            RGB L = m_direct.estimate(scene, g, sampler);
                             for (const PointLight& pl : m_set.lights) {
                                 RGB c;
                                 Ray shadow;

@@ -5,6 +5,7 @@
 
 #include "integrators/integrator.h"
 #include "integrators/settings.h"
+#include "manylight/direct.h"
 #include "manylight/point_light_set.h"
 
 namespace ml {
@@ -14,6 +15,9 @@ struct ManyLightSettings {
     PointLightOptions lights;
     float clamp = 0;    // > 0: no VPL contributes more than this radiance (per channel)
     int max_depth = 5;  // delta bounces followed from the camera before gathering
+    // lights.direct=sample: area and infinite lights by next-event estimation
+    // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
+    int direct_samples = 4;
     static ManyLightSettings read(const Settings& s);
     // A point light's contribution after clamping (VPLs only; the emitters' lights are exact).
     RGB clamped(const RGB& c, bool is_vpl) const {
@@ -34,6 +38,7 @@ public:
 private:
     ManyLightSettings m_settings;
     PointLightSet m_set;
+    SampledDirectLight m_direct;
 };
 
 }  // namespace ml

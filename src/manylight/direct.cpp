@@ -1,0 +1,67 @@
+#include "manylight/direct.h"
+
+#include "integrators/common.h"
+#include "lights/light.h"
+
+namespace ml {
+
+SampledDirectLight::SampledDirectLight(const Scene& scene, int samples) : m_samples(samples) {
+    std::vector<float> weights;
+    for (const auto& l : scene.lights()) {
+        float w = is_delta_light(l->type()) ? 0.f : std::max(0.f, l->power().luminance());
+        // A non-delta light with no measurable power is still chosen now and then.
+        if (!is_delta_light(l->type())) {
+            w = std::max(w, 1e-20f);
+            ++m_count;
+        }
+        weights.push_back(w);
+    }
+    if (m_count) m_choice = Distribution1D(weights);
+}
+
+float SampledDirectLight::pmf(int index) const {
+    if (!m_count || index < 0 || size_t(index) >= m_choice.size()) return 0.f;
+    return m_choice.pmf(size_t(index));
+}
+
+RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampler& sampler) const {
+    if (!m_count) return RGB();
+    const SurfaceInteraction& si = g.si;
+    const auto& lights = scene.lights();
+    RGB L;
+    for (int i = 0; i < m_samples; ++i) {
+        float u_select = sampler.get_1d();
+        Vec2 u_light = sampler.get_2d();
+        float uc = sampler.get_1d();
+        Vec2 u_bsdf = sampler.get_2d();
+        // Light sampling.
+        float chosen = 0;
+        size_t index = m_choice.sample_discrete(u_select, &chosen);
+        if (chosen > 0)
+            L += estimate_direct(scene, si, g.bsdf, *lights[index], u_light, true, chosen) / chosen;
+        // BSDF sampling: its non-delta lobes only (a delta lobe is the camera path's to follow).
+        auto bs = g.bsdf.sample(si.wo, uc, u_bsdf);
+        if (!bs || bs->is_specular() || bs->pdf_solid_angle <= 0) continue;
+        RGB f = bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+        if (f.is_black()) continue;
+        Ray ray = spawn_ray(si, bs->wi);
+        SurfaceInteraction hit;
+        LightSampleContext ctx = light_context(si);
+        auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
+            float p_light = pmf(light->index) * light->pdf_li(ctx, ray.d, p, n);
+            return Le * power_heuristic(bs->pdf_solid_angle, p_light);
+        };
+        if (!scene.intersect(ray, &hit)) {
+            for (const Light* light : scene.infinite_lights()) {
+                RGB Le = light->radiance_escaped(ray);
+                if (!Le.is_black()) L += f * weighted(light, Le, Vec3(), Vec3());
+            }
+        } else if (hit.area_light) {
+            RGB Le = hit.area_light->radiance(hit.p, hit.ng, hit.uv, hit.wo);
+            if (!Le.is_black()) L += f * weighted(hit.area_light, Le, hit.p, hit.ng);
+        }
+    }
+    return g.beta * L / float(m_samples);
+}
+
+}  // namespace ml

@@ -1,0 +1,40 @@
+// Direct light from the area and infinite lights by sampling (`lights.direct=sample`), for the
+// many-light integrators: instead of turning those emitters into fixed point lights, whose
+// 1/d^2 blows up on surfaces that touch or nearly touch an emitter (a strip light over a
+// worktop, a window's frame), every gather point takes `lights.direct_samples` samples of
+// next-event estimation with multiple importance sampling, as the path tracer does: a light
+// chosen in proportion to power and a point on it, and a BSDF sample whose ray may find an
+// emitter, weighted by the power heuristic. The result is unbiased; delta lights (point, spot,
+// distant) stay point lights, which are exact for them.
+#pragma once
+
+#include <vector>
+
+#include "manylight/gather.h"
+#include "sampling/distributions.h"
+
+namespace ml {
+
+class Light;
+
+class SampledDirectLight {
+public:
+    SampledDirectLight() = default;
+    // The scene's non-delta lights; `samples` light and BSDF samples per gather point.
+    SampledDirectLight(const Scene& scene, int samples);
+
+    bool empty() const { return m_count == 0; }
+    int samples() const { return m_samples; }
+    // Direct radiance at g from the sampled lights, times g.beta. Draws 5 dimensions per sample
+    // from the sampler (none when empty()), whatever happens.
+    RGB estimate(const Scene& scene, const GatherPoint& g, Sampler& sampler) const;
+    // Probability of choosing the light at position `index` of the scene's list.
+    float pmf(int index) const;
+
+private:
+    Distribution1D m_choice;  // over the scene's lights; delta lights weigh 0
+    size_t m_count = 0;       // lights that can be chosen
+    int m_samples = 1;
+};
+
+}  // namespace ml
