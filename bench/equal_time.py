@@ -118,6 +118,9 @@ def main():
                     print(f"{scene} {integrator} {budget}s: relMSE {r['diff']['relmse']:.5g} "
                           f"({work_done(r['stats'])}, render {r['stats']['seconds']['render']:.1f} s)",
                           file=sys.stderr)
+                    if integrator in r["stats"]:
+                        print(f"  {integrator} stats: {json.dumps(r['stats'][integrator])}",
+                              file=sys.stderr)
 
     lines = []
     header = "| scene | integrator | " + " | ".join(f"relMSE @ {b} s" for b in budgets) + \

@@ -70,9 +70,11 @@ TEST(Mlt, SameImageForAnyThreadCount) {
 }
 
 TEST(Cmlt, AgreesWithPathThroughGlassAndMirrors) {
-    // Coherent MLT: the lens perturbation as multiple-try Metropolis over packets of four rays.
+    // Coherent MLT: the lens perturbation as multiple-try Metropolis over packets of four rays
+    // (with the whole-path bidirectional proposal: test_mlt_bidir.cpp tests the partial one).
     std::string scene = test::cornell_variant(test::glass_and_mirror());
-    std::map<std::string, std::string> set = {{"cmlt.bootstrap", "20000"}, {"cmlt.chains", "64"}};
+    std::map<std::string, std::string> set = {
+        {"cmlt.bootstrap", "20000"}, {"cmlt.chains", "64"}, {"cmlt.bidirectional", "whole"}};
     auto m = test::render_twice(scene, "cmlt", 128, 5, 32, set);
     auto p = test::render_twice(scene, "path", 256, 5, 32);
     test::expect_agreement(m, p, 16, "cmlt vs path, glass and mirror");

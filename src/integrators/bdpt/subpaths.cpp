@@ -70,6 +70,12 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
                            TransportMode::Radiance, path + 1);
 }
 
+int continue_subpath(const BdptScene& ctx, const Ray& ray, float pdf_dir, Sampler& sampler,
+                     ScratchBuffer& scratch, int max_vertices, TransportMode mode,
+                     PathVertex* path) {
+    return random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices, mode, path);
+}
+
 int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
                            int max_vertices, PathVertex* path) {
     if (max_vertices <= 0) return 0;

@@ -20,4 +20,12 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
 int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
                            int max_vertices, PathVertex* path);
 
+// Continues a subpath whose last vertex is path[-1] along `ray`, which that vertex chose with
+// solid-angle density `pdf_dir` (0 for a delta lobe): up to `max_vertices` vertices, each bounce
+// drawing as above, throughputs counted from one. Returns the vertex count. (The partial
+// bidirectional mutation regrows a path from kept vertices with it.)
+int continue_subpath(const BdptScene& ctx, const Ray& ray, float pdf_dir, Sampler& sampler,
+                     ScratchBuffer& scratch, int max_vertices, TransportMode mode,
+                     PathVertex* path);
+
 }  // namespace ml

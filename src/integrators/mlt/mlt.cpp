@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/rng.h"
+#include "integrators/mlt/bidir_mutation.h"
 #include "integrators/mlt/coherent.h"
 #include "integrators/mlt/mutations.h"
 #include "lights/light_sampler.h"
@@ -21,6 +22,14 @@ MltIntegrator::MltIntegrator(const Settings& settings, bool coherent) : m_cohere
     m_chains = settings.get_int("chains", 256);
     m_bidirectional_prob = settings.get_float("bidirectional_prob", 0.3f);
     m_lens_prob = settings.get_float("lens_prob", 0.4f);
+    std::string bidirectional = settings.get_string("bidirectional", "partial");
+    if (bidirectional != "partial" && bidirectional != "whole")
+        throw UsageError(name() + ": bidirectional must be \"partial\" or \"whole\", not \"" +
+                         bidirectional + "\"");
+    m_partial = bidirectional == "partial";
+    m_whole_prob = settings.get_float("whole_prob", 0.5f);
+    if (!(m_whole_prob >= 0 && m_whole_prob <= 1))
+        throw UsageError(name() + ": whole_prob must be in [0, 1]");
     if (m_max_depth < 0) throw UsageError(name() + ": maxdepth must be >= 0");
     if (m_bootstrap < 1 || m_chains < 1)
         throw UsageError(name() + ": bootstrap and chains must be >= 1");
@@ -60,6 +69,9 @@ struct Chain {
     RGB W;             // f(x) / q(x), black when not known
     int64_t next = 0;  // index of the next mutation
     int64_t accepted = 0;
+    // Per mutation (partial bidirectional, lens, caustic, whole-path bidirectional): times
+    // chosen, times accepted.
+    int64_t chosen_by[4] = {0, 0, 0, 0}, accepted_by[4] = {0, 0, 0, 0};
     std::unique_ptr<ScratchBuffer> current, spare;
 };
 
@@ -153,13 +165,22 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 ch.spare->reset();
                 float u = sampler.get_1d();
                 std::optional<Proposal> p;
-                if (u < m_bidirectional_prob)
+                int kind = u < m_bidirectional_prob                 ? 0
+                           : u < m_bidirectional_prob + m_lens_prob ? 1
+                                                                    : 2;
+                // Bidirectional: the whole path replaced with probability whole_prob (or
+                // always, bidirectional=whole), else Veach's partial mutation.
+                if (kind == 0 && (!m_partial || u < m_bidirectional_prob * m_whole_prob)) kind = 3;
+                if (kind == 0)
+                    p = mutate_bidirectional_partial(bctx, ch.x, sampler, *ch.spare);
+                else if (kind == 3)
                     p = mutate_bidirectional(bctx, ch.x, &ch.W, sampler, *ch.spare);
-                else if (u < m_bidirectional_prob + m_lens_prob)
+                else if (kind == 1)
                     p = m_coherent ? mutate_lens_multiple_try(bctx, ch.x, sampler, *ch.spare)
                                    : mutate_lens(bctx, ch.x, sampler, *ch.spare);
                 else
                     p = mutate_caustic(bctx, ch.x, sampler, *ch.spare);
+                ++ch.chosen_by[kind];
                 float a = p ? p->accept : 0.f, share = p && p->n_tries ? p->tries_share : a;
                 if (p && p->n_tries)
                     for (int i = 0; i < p->n_tries; ++i) splat(p->tries[i].p_raster, p->tries[i].v);
@@ -172,6 +193,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                     ch.W = p->W;
                     std::swap(ch.current, ch.spare);
                     ++ch.accepted;
+                    ++ch.accepted_by[kind];
                 }
             }
         });
@@ -197,11 +219,28 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
               float(sum[3 * size_t(p) + 2] * scale));
         if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
     }
-    int64_t accepted = 0;
-    for (const Chain& c : chains) accepted += c.accepted;
+    int64_t accepted = 0, chosen_by[4] = {0, 0, 0, 0}, accepted_by[4] = {0, 0, 0, 0};
+    for (const Chain& c : chains) {
+        accepted += c.accepted;
+        for (int k = 0; k < 4; ++k)
+            chosen_by[k] += c.chosen_by[k], accepted_by[k] += c.accepted_by[k];
+    }
+    auto rate = [](int64_t n, int64_t d) { return double(n) / double(std::max<int64_t>(d, 1)); };
+    // Per mutation: how often it was chosen and the share of those accepted ("bidirectional" is
+    // the partial one, "whole" the whole-path replacement).
+    const char* names[4] = {"bidirectional", "lens", "caustic", "whole"};
+    std::string proposed, acceptance;
+    for (int k = 0; k < 4; ++k) {
+        proposed += fmt::format("{}\"{}\": {}", k ? ", " : "", names[k], chosen_by[k]);
+        acceptance += fmt::format("{}\"{}\": {:.4f}", k ? ", " : "", names[k],
+                                  rate(accepted_by[k], chosen_by[k]));
+    }
     result.extra_json = fmt::format(
-        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}}}",
-        name(), b, n_chains, done, double(accepted) / double(std::max<int64_t>(done, 1)));
+        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}, "
+        "\"bidirectional\": \"{}\", \"whole_prob\": {}, \"proposed\": {{{}}}, "
+        "\"acceptance_by_mutation\": {{{}}}}}",
+        name(), b, n_chains, done, rate(accepted, done), m_partial ? "partial" : "whole",
+        m_partial ? m_whole_prob : 1.f, proposed, acceptance);
     result.spp = int(done / pixels);
     return result;
 }

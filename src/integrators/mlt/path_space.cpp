@@ -68,7 +68,8 @@ std::optional<Vec3> specular_direction(const PathVertex& v, const Vec3& wo, bool
     return std::nullopt;
 }
 
-RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, int* s_hi) {
+RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, int* s_hi, int s_min,
+                           int s_max) {
     const int n = int(x.v.size());
     if (n < 2 || !x.v.back().light) return RGB();
     const PathVertex& lv = x.v.back();
@@ -99,6 +100,7 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         return !is_specular_vertex(x, k) && x.v[size_t(k)].is_connectible();
     };
     auto valid = [&](int s) {
+        if (s < s_min || s > s_max) return false;
         int t = n - s;
         if (t < 1 || (s == 1 && t == 1)) return false;
         if (s == 0) return area;

@@ -42,8 +42,13 @@ RGB specular_weight(const PathVertex& v, const Vec3& wo, const Vec3& wi);
 // see it through different delta distributions, so only the run [s_lo, s_hi] of consecutive
 // strategies with the most light vertices is counted, and proposals of x by other strategies
 // must be refused. Black for paths BDPT cannot make.
+//
+// With a window [s_min, s_max], only the strategies in it count (the run is the one with the most
+// light vertices inside the window): the partial bidirectional mutation's density, whose
+// strategies differ only in the vertices it regenerates (bidir_mutation.h). The result keeps the
+// factor depth + 2 of the whole range.
 RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo = nullptr,
-                           int* s_hi = nullptr);
+                           int* s_hi = nullptr, int s_min = 0, int s_max = 1 << 30);
 
 // Lens perturbation target: f(x) times the Jacobian from the film position, for a path whose
 // vertices 1..j-1 are specular and j is not (j + 1 < size). Colour and magnitude.
