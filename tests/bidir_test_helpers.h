@@ -137,4 +137,41 @@ inline void expect_agreement(const TwoRenders& x, const TwoRenders& y, int block
     EXPECT_LT(a.worst_image_z, 4.0) << what;
 }
 
+// The checks every configuration of `mlt` answers to, `set` its settings and `what` its name.
+// The white furnace at depth 3: Le (1 + a + a^2 + a^3); the two seeds' spread sets the tolerance
+// (the image's scale b comes from the bootstrap, whose noise moves every pixel together).
+inline void expect_mlt_furnace(const std::map<std::string, std::string>& set) {
+    auto r = render_twice(furnace_scene(0.5f, 1.f, 16), "mlt", 64, 3, 16, set);
+    double expected = 1.875;
+    for (int c = 0; c < 3; ++c) {
+        double m1 = channel_stats(r.a, c).mean, m2 = channel_stats(r.b, c).mean;
+        double sd = std::abs(m1 - m2) / std::sqrt(2.0);
+        EXPECT_NEAR(0.5 * (m1 + m2), expected, 5 * sd + 0.01 * expected) << "channel " << c;
+    }
+}
+
+inline void expect_mlt_agrees_with_path_on_cornell(const std::map<std::string, std::string>& set,
+                                                   const std::string& what) {
+    std::string scene = cornell_variant();
+    expect_agreement(render_twice(scene, "mlt", 64, 4, 32, set),
+                     render_twice(scene, "path", 64, 4, 32), 16, what + " vs path, area light");
+}
+
+inline void expect_mlt_agrees_with_path_through_glass(const std::map<std::string, std::string>& set,
+                                                      const std::string& what) {
+    std::string scene = cornell_variant(glass_and_mirror());
+    expect_agreement(render_twice(scene, "mlt", 128, 5, 32, set),
+                     render_twice(scene, "path", 256, 5, 32), 16,
+                     what + " vs path, glass and mirror");
+}
+
+// Path tracing cannot find these caustics; BDPT (tested against light tracing) can.
+inline void expect_mlt_agrees_with_bdpt_on_caustics(const std::map<std::string, std::string>& set,
+                                                    const std::string& what) {
+    std::string scene = cornell_variant(glass_and_mirror(), kCornellPointLight);
+    expect_agreement(render_twice(scene, "mlt", 128, 4, 32, set),
+                     render_twice(scene, "bdpt", 64, 4, 32), 16,
+                     what + " vs bdpt, point light, glass and mirror");
+}
+
 }  // namespace ml::test

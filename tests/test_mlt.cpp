@@ -16,39 +16,18 @@ std::map<std::string, std::string> small_bootstrap() {
 
 }  // namespace
 
-TEST(Mlt, WhiteFurnaceHoldsAtDepthThree) {
-    // Le (1 + a + a^2 + a^3); the two seeds' spread sets the tolerance (the image's scale b
-    // comes from the bootstrap, whose noise moves every pixel together).
-    auto r =
-        test::render_twice(test::furnace_scene(0.5f, 1.f, 16), "mlt", 64, 3, 16, small_bootstrap());
-    double expected = 1.875;
-    for (int c = 0; c < 3; ++c) {
-        double m1 = test::channel_stats(r.a, c).mean, m2 = test::channel_stats(r.b, c).mean;
-        double sd = std::abs(m1 - m2) / std::sqrt(2.0);
-        EXPECT_NEAR(0.5 * (m1 + m2), expected, 5 * sd + 0.01 * expected) << "channel " << c;
-    }
-}
+TEST(Mlt, WhiteFurnaceHoldsAtDepthThree) { test::expect_mlt_furnace(small_bootstrap()); }
 
 TEST(Mlt, AgreesWithPathOnTheCornellBox) {
-    std::string scene = test::cornell_variant();
-    auto m = test::render_twice(scene, "mlt", 64, 4, 32, small_bootstrap());
-    auto p = test::render_twice(scene, "path", 64, 4, 32);
-    test::expect_agreement(m, p, 16, "mlt vs path, area light");
+    test::expect_mlt_agrees_with_path_on_cornell(small_bootstrap(), "mlt");
 }
 
 TEST(Mlt, AgreesWithPathThroughGlassAndMirrors) {
-    std::string scene = test::cornell_variant(test::glass_and_mirror());
-    auto m = test::render_twice(scene, "mlt", 128, 5, 32, small_bootstrap());
-    auto p = test::render_twice(scene, "path", 256, 5, 32);
-    test::expect_agreement(m, p, 16, "mlt vs path, glass and mirror");
+    test::expect_mlt_agrees_with_path_through_glass(small_bootstrap(), "mlt");
 }
 
 TEST(Mlt, AgreesWithBdptForPointLightCausticsThroughGlass) {
-    // Path tracing cannot find these caustics; BDPT (tested against light tracing) can.
-    std::string scene = test::cornell_variant(test::glass_and_mirror(), test::kCornellPointLight);
-    auto m = test::render_twice(scene, "mlt", 128, 4, 32, small_bootstrap());
-    auto b = test::render_twice(scene, "bdpt", 64, 4, 32);
-    test::expect_agreement(m, b, 16, "mlt vs bdpt, point light, glass and mirror");
+    test::expect_mlt_agrees_with_bdpt_on_caustics(small_bootstrap(), "mlt");
 }
 
 TEST(Mlt, SameImageForAnyThreadCount) {

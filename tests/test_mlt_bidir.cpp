@@ -205,36 +205,18 @@ TEST(MltBidir, AcceptanceRatioIsTheBruteForceProposalDensityRatio) {
     RecordProperty("worst_relative_error", fmt::format("{:.3g}", worst));
 }
 
-TEST(MltBidir, WhiteFurnaceHoldsAtDepthThree) {
-    auto r =
-        test::render_twice(test::furnace_scene(0.5f, 1.f, 16), "mlt", 64, 3, 16, partial_only());
-    double expected = 1.875;  // Le (1 + a + a^2 + a^3)
-    for (int c = 0; c < 3; ++c) {
-        double m1 = test::channel_stats(r.a, c).mean, m2 = test::channel_stats(r.b, c).mean;
-        double sd = std::abs(m1 - m2) / std::sqrt(2.0);
-        EXPECT_NEAR(0.5 * (m1 + m2), expected, 5 * sd + 0.01 * expected) << "channel " << c;
-    }
-}
+TEST(MltBidir, WhiteFurnaceHoldsAtDepthThree) { test::expect_mlt_furnace(partial_only()); }
 
 TEST(MltBidir, AgreesWithPathOnTheCornellBox) {
-    std::string scene = test::cornell_variant();
-    auto m = test::render_twice(scene, "mlt", 64, 4, 32, partial_only());
-    auto p = test::render_twice(scene, "path", 64, 4, 32);
-    test::expect_agreement(m, p, 16, "mlt (partial bidirectional) vs path, area light");
+    test::expect_mlt_agrees_with_path_on_cornell(partial_only(), "mlt (partial bidirectional)");
 }
 
 TEST(MltBidir, AgreesWithPathThroughGlassAndMirrors) {
-    std::string scene = test::cornell_variant(test::glass_and_mirror());
-    auto m = test::render_twice(scene, "mlt", 128, 5, 32, partial_only());
-    auto p = test::render_twice(scene, "path", 256, 5, 32);
-    test::expect_agreement(m, p, 16, "mlt (partial bidirectional) vs path, glass and mirror");
+    test::expect_mlt_agrees_with_path_through_glass(partial_only(), "mlt (partial bidirectional)");
 }
 
 TEST(MltBidir, AgreesWithBdptForPointLightCausticsThroughGlass) {
-    std::string scene = test::cornell_variant(test::glass_and_mirror(), test::kCornellPointLight);
-    auto m = test::render_twice(scene, "mlt", 128, 4, 32, partial_only());
-    auto b = test::render_twice(scene, "bdpt", 64, 4, 32);
-    test::expect_agreement(m, b, 16, "mlt (partial bidirectional) vs bdpt, point light");
+    test::expect_mlt_agrees_with_bdpt_on_caustics(partial_only(), "mlt (partial bidirectional)");
 }
 
 TEST(MltBidir, BadBidirectionalSettingsAreUsageErrors) {

@@ -139,6 +139,9 @@ std::optional<Proposal> mutate_bidirectional(const BdptScene& ctx, const MltPath
     RGB Wy = proposal_weight(ctx, *y, strategy);
     if (importance_of(Wy) == 0) return std::nullopt;
     if (Wx->is_black()) *Wx = path_over_bdpt_density(ctx, x);
+    // A current path that BDPT cannot make (q(x) = 0, reached by a perturbation) cannot be
+    // proposed back: T(y -> x) = 0, so the move is refused, not accepted.
+    if (importance_of(*Wx) == 0) return std::nullopt;
     Proposal p = make_proposal(std::move(*y), Wy, *Wx);
     p.W = Wy;
     return p;
