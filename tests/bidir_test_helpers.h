@@ -6,8 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "camera/camera.h"
+#include "integrators/bdpt/path_vertex.h"
+#include "lights/light_sampler.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 
@@ -136,6 +140,23 @@ inline void expect_agreement(const TwoRenders& x, const TwoRenders& y, int block
     EXPECT_LT(a.worst_block_z, 5.0) << what << ": worst " << a.worst;
     EXPECT_LT(a.worst_image_z, 4.0) << what;
 }
+
+// The scene, camera and light sampler of a scene text, for direct use of the BDPT pieces and the
+// mutations built on them.
+struct Bench {
+    std::unique_ptr<PerspectiveCamera> camera;
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<LightSampler> lights;
+    std::unique_ptr<BdptScene> ctx;
+    explicit Bench(const std::string& text, int res) {
+        SceneDesc desc = parse_scene_string(text, ".");
+        camera = std::make_unique<PerspectiveCamera>(desc.camera.params,
+                                                     desc.world_to_camera.inverse(), res, res);
+        scene = std::make_unique<Scene>(std::move(desc));
+        lights = std::make_unique<LightSampler>("power", scene->lights());
+        ctx = std::make_unique<BdptScene>(*scene, *camera, *lights);
+    }
+};
 
 // The checks every configuration of `mlt` answers to, `set` its settings and `what` its name.
 // The white furnace at depth 3: Le (1 + a + a^2 + a^3); the two seeds' spread sets the tolerance

@@ -97,22 +97,6 @@ TEST(Bdpt, AgreesWithPathThroughAThinLens) {
 
 namespace {
 
-// The scene, camera and light sampler of a scene text, for direct use of the BDPT pieces.
-struct Bench {
-    std::unique_ptr<PerspectiveCamera> camera;
-    std::unique_ptr<Scene> scene;
-    std::unique_ptr<LightSampler> lights;
-    std::unique_ptr<BdptScene> ctx;
-    explicit Bench(const std::string& text, int res) {
-        SceneDesc desc = parse_scene_string(text, ".");
-        camera = std::make_unique<PerspectiveCamera>(desc.camera.params,
-                                                     desc.world_to_camera.inverse(), res, res);
-        scene = std::make_unique<Scene>(std::move(desc));
-        lights = std::make_unique<LightSampler>("power", scene->lights());
-        ctx = std::make_unique<BdptScene>(*scene, *camera, *lights);
-    }
-};
-
 // For a camera subpath whose first n vertices end on an emitter, the MIS weights of every
 // strategy (s, n - s) that could have made that path, computed as if each had made it.
 // Returns the sum over the strategies whose connection is possible.
@@ -150,7 +134,7 @@ double weight_sum(const BdptScene& ctx, std::vector<PathVertex> cam, int n) {
 }
 
 void expect_weights_sum_to_one(const std::string& text, int paths_wanted) {
-    Bench b(text, 32);
+    test::Bench b(text, 32);
     auto sampler = create_sampler("independent", 1, 7);
     ScratchBuffer scratch;
     std::vector<PathVertex> cam(8);
@@ -175,7 +159,7 @@ void expect_weights_sum_to_one(const std::string& text, int paths_wanted) {
 // True for blocks where some pixel sees a delta-only BSDF first (light tracing cannot see
 // through those).
 std::function<bool(int, int)> blocks_seeing_specular(const std::string& text, int res, int block) {
-    Bench b(text, res);
+    test::Bench b(text, res);
     std::vector<bool> bad(size_t(res / block) * (res / block), false);
     ScratchBuffer scratch;
     for (int y = 0; y < res; ++y)
@@ -256,7 +240,7 @@ TEST(Bdpt, PathOfDepthEstimatorMatchesTheImage) {
     // contribution over uniformly drawn samples is the mean pixel value of that depth, so the
     // sum over depths 0..3 is the image mean of bdpt at maxdepth 3.
     std::string scene = test::cornell_variant();
-    Bench b(scene, 32);
+    test::Bench b(scene, 32);
     BdptEstimator est(*b.scene, *b.camera);
     auto sampler = create_sampler("independent", 1, 21);
     ScratchBuffer scratch;

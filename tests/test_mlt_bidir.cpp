@@ -25,22 +25,6 @@ std::map<std::string, std::string> partial_only() {
             {"mlt.bidirectional_prob", "1"},  {"mlt.lens_prob", "0"}};
 }
 
-// The scene, camera and light sampler of a scene text, for direct use of the mutation.
-struct Bench {
-    std::unique_ptr<PerspectiveCamera> camera;
-    std::unique_ptr<Scene> scene;
-    std::unique_ptr<LightSampler> lights;
-    std::unique_ptr<BdptScene> ctx;
-    Bench(const std::string& text, int res) {
-        SceneDesc desc = parse_scene_string(text, ".");
-        camera = std::make_unique<PerspectiveCamera>(desc.camera.params,
-                                                     desc.world_to_camera.inverse(), res, res);
-        scene = std::make_unique<Scene>(std::move(desc));
-        lights = std::make_unique<LightSampler>("power", scene->lights());
-        ctx = std::make_unique<BdptScene>(*scene, *camera, *lights);
-    }
-};
-
 // Brute force, for paths whose surfaces are all non-specular, from the vertices' positions
 // alone: the measurement contribution f and the density with which the mutation regrows the
 // vertices a + 1 .. b - 1 of a path (T(. -> path) for deletion (a, b)).
@@ -163,7 +147,7 @@ TEST(MltBidir, AcceptanceRatioIsTheBruteForceProposalDensityRatio) {
     // The mutation's ratio f(y) T(y -> x) / (f(x) T(x -> y)) comes from BDPT's strategy sums over
     // whole paths (the kept vertices cancelling); the brute force multiplies the regrown
     // vertices' densities. Leaving one split out of T must be seen.
-    Bench bench(test::cornell_variant(), 32);
+    test::Bench bench(test::cornell_variant(), 32);
     BruteForce brute{*bench.ctx};
     auto sampler = create_sampler("independent", 1, 5);
     ScratchBuffer scratch_x, scratch_y;
