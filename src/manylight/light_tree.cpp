@@ -171,8 +171,10 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     if (ids.empty()) return;
     size_t n = ids.size();
     float c = 0;
+    // Walter et al. weigh the cone's angle by half the scene's size (seed 004: "half the
+    // scene's bbox"); a full diagonal mixes orientations less and makes kitchen cuts 3% larger.
     if (kind == PointLightKind::Oriented)
-        c = opts.scene_diagonal > 0 ? opts.scene_diagonal : length(all.diagonal());
+        c = 0.5f * (opts.scene_diagonal > 0 ? opts.scene_diagonal : length(all.diagonal()));
     if (directional) c = 1;
 
     Vec3 extent = all.diagonal();

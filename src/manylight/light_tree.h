@@ -38,8 +38,8 @@ struct LightTreeNode {
 
 struct LightTreeOptions {
     uint64_t seed = 0;  // representative choices; the same seed gives the same tree
-    // c of the metric for oriented lights: the scene's bounding-box diagonal. <= 0: the diagonal
-    // of the oriented lights' own bounding box.
+    // c of the metric for oriented lights is half the scene's bounding-box diagonal, given here.
+    // <= 0: half the diagonal of the oriented lights' own bounding box.
     float scene_diagonal = 0;
     int window_radius = 16;  // PLOC's search radius (neighbours on each side)
 };
