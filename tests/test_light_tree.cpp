@@ -3,6 +3,7 @@
 // deterministic.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -69,6 +70,12 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
         rep_found |= (*leaves)[k] == node.light;
     }
     EXPECT_TRUE(rep_found) << "representative " << node.light << " not in subtree of " << n;
+    // Clamping's cap: the count of lights when they are all VPLs (a leaf that is not: 0).
+    size_t vpls = size_t(std::count_if(leaves->begin() + ptrdiff_t(first), leaves->end(),
+                                       [&](int32_t l) { return lights[size_t(l)].is_vpl; }));
+    size_t count = leaves->size() - first;
+    int32_t expected = vpls == count ? int32_t(count) : (node.is_leaf() ? 0 : -1);
+    EXPECT_EQ(node.clampable, expected) << "node " << n;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(node.intensity[c], total[c], 1e-4 * total[c] + 1e-6);
 }
 

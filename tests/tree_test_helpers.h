@@ -44,6 +44,7 @@ inline std::vector<PointLight> random_lights(size_t n, LightMix mix, uint64_t se
         }
         float scale = std::pow(10.f, 4 * rng.next_float() - 2);
         pl.intensity = RGB(rng.next_float(), rng.next_float(), rng.next_float()) * scale;
+        pl.is_vpl = i % 8 != 0;  // clusters with and without an emitter's light
         switch (mix) {
             case LightMix::Omni:
                 pl.kind = PointLightKind::Omni;

@@ -215,6 +215,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         std::fill_n(m_reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
                     node.light);
         node.intensity = pl.intensity;
+        node.clampable = pl.is_vpl ? 1 : 0;
         if (!directional) node.bounds.expand(pl.p);
         node.cone = has_cone ? DirectionCone(normalize(pl.n)) : DirectionCone::entire_sphere();
         cl.node[k] = int32_t(base + k);
@@ -292,6 +293,9 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             node.kind = kind;
             node.children[0] = a, node.children[1] = b;
             node.intensity = na.intensity + nb.intensity;
+            // Either child holding a light that is not a VPL makes the sum not clampable (-1).
+            node.clampable =
+                (na.clampable > 0 && nb.clampable > 0) ? na.clampable + nb.clampable : -1;
             node.bounds = na.bounds;
             node.bounds.expand(nb.bounds);
             node.cone = has_cone ? union_cones(na.cone, nb.cone) : DirectionCone::entire_sphere();

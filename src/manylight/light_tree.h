@@ -31,6 +31,10 @@ struct LightTreeNode {
     int32_t children[2] = {-1, -1};  // node indices; both -1 for a leaf
     int32_t light = -1;  // the representative light (a leaf: its light), index into the lights
     PointLightKind kind = PointLightKind::Omni;
+    // How many lights the node holds when they are all VPLs, whose contributions vpl.clamp caps
+    // (so the node's is at most this many times the clamp); 0 for a leaf that is not a VPL, -1
+    // for a cluster with one.
+    int32_t clampable = 0;
     int32_t reps[kLightTreeReps] = {};  // representatives per sample (reps[0] == light)
 
     bool is_leaf() const { return children[0] < 0; }

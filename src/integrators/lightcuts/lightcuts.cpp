@@ -112,6 +112,19 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
         });
 }
 
+RGB LightcutsIntegrator::capped(const RGB& bound, const LightTreeNode& n,
+                                const RGB& estimate) const {
+    if (!(m_settings.clamp > 0) || n.clampable <= 0) return bound;
+    // Each of the node's VPLs gives at most the clamp (per channel), so the node at most
+    // clampable times it: finite even where the 1/d^2 bound is not (x inside the node's box).
+    // The estimate (the representative's clamped value scaled by intensity) may exceed that,
+    // and the error of two non-negative values is at most the larger.
+    float cap = float(n.clampable) * m_settings.clamp;
+    RGB out;
+    for (int c = 0; c < 3; ++c) out[c] = std::min(bound[c], std::max(cap, estimate[c]));
+    return out;
+}
+
 RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
                                const RGB& known) const {
     const Vec3& x = g.si.p;
@@ -129,18 +142,18 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     // per gather point) times its geometric bound, and its own, tighter material bound only if
     // it reaches the top of the heap still above the threshold. Most nodes of a cut never do.
     const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
-    auto loose_bound = [&](const LightTreeNode& n) {
+    auto loose_bound = [&](const LightTreeNode& n, const RGB& estimate) {
         float gb = geometric_bound(n, x);
         RGB b;
         for (int c = 0; c < 3; ++c)
             b[c] = (gb == 0 || m_all[c] == 0 || n.intensity[c] == 0)
                        ? 0.f
                        : m_all[c] * gb * n.intensity[c];
-        float l = (g.beta * b).luminance();
+        float l = capped(g.beta * b, n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
-    auto tight_bound = [&](const LightTreeNode& n) {
-        float l = (g.beta * node_error_bound(n, x, g.bsdf, wo)).luminance();
+    auto tight_bound = [&](const LightTreeNode& n, const RGB& estimate) {
+        float l = capped(g.beta * node_error_bound(n, x, g.bsdf, wo), n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
     // A node stands for its cluster: the representative's value scaled, channel by channel, by
@@ -157,7 +170,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         float lum_ratio = I_rep.luminance() > 0 ? n.intensity.luminance() / I_rep.luminance() : 0;
         for (int c = 0; c < 3; ++c)
             e.estimate[c] = rep_value[c] * (I_rep[c] > 0 ? n.intensity[c] / I_rep[c] : lum_ratio);
-        e.bound = loose_bound(n);
+        e.bound = loose_bound(n, e.estimate);
         e.tight = e.bound == 0;
         return e;
     };
@@ -195,7 +208,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         heap.pop_back();
         if (!e.tight) {
             // Tighten the bound and look again: the node may no longer be the worst.
-            float b = tight_bound(m_tree.node(e.node));
+            float b = tight_bound(m_tree.node(e.node), e.estimate);
             if (b < e.bound) {
                 bound_sum += b - e.bound;
                 bound_sq += b * b - e.bound * e.bound;
@@ -259,7 +272,7 @@ void LightcutsIntegrator::verify_cut(const Scene& scene, const GatherPoint& g,
             if (!scene.occluded(shadow)) exact += c;
         }
         exact_total += exact;
-        RGB bound = g.beta * node_error_bound(n, g.si.p, g.bsdf, g.si.wo);
+        RGB bound = capped(g.beta * node_error_bound(n, g.si.p, g.bsdf, g.si.wo), n, e.estimate);
         ++nodes;
         for (int c = 0; c < 3; ++c)
             if (std::abs(e.estimate[c] - exact[c]) > bound[c] * 1.0001f + 1e-12f) {
