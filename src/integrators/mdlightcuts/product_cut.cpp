@@ -1,0 +1,192 @@
+#include "integrators/mdlightcuts/product_cut.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/cone.h"
+#include "manylight/bounds.h"
+
+namespace ml {
+
+namespace {
+
+// Luminance of a bound; NaN (an infinite bound times zero) counts as infinite.
+float bound_luminance(const RGB& b) {
+    float l = b.luminance();
+    return std::isnan(l) ? kInfinity : l;
+}
+
+// Channel by channel, whole / part (by luminance where the part has none in a channel): the
+// factor a representative is scaled by to stand for its cluster.
+RGB strength_ratio(const RGB& whole, const RGB& part) {
+    float lp = part.luminance();
+    float lum_ratio = lp > 0 ? whole.luminance() / lp : 0.f;
+    RGB r;
+    for (int c = 0; c < 3; ++c) r[c] = part[c] > 0 ? whole[c] / part[c] : lum_ratio;
+    return r;
+}
+
+}  // namespace
+
+RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
+    const PointLight& pl = m_set.lights[size_t(light)];
+    RGB c;
+    Ray shadow;
+    if (!point_light_contribution(m_set, pl, p.g, &c, &shadow)) return RGB();
+    c = m_settings.clamped(c, pl.is_vpl);
+    return m_scene.occluded(shadow) ? RGB() : c;
+}
+
+RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points,
+                            const GatherTree& gtree, int32_t gather, int32_t light) const {
+    const GatherTreeNode& G = gtree.node(gather);
+    const LightTreeNode& L = m_tree.node(light);
+    RGB b;
+    for (int32_t m = G.begin; m < G.end; ++m) {
+        const WeightedGatherPoint& p = points[size_t(gtree.members()[size_t(m)])];
+        RGB nb = node_error_bound(L, p.g.si.p, p.g.bsdf, p.g.si.wo);
+        for (int c = 0; c < 3; ++c)
+            if (p.w[c] != 0 && nb[c] != 0) b[c] += p.w[c] * nb[c];
+    }
+    return b;
+}
+
+float ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points,
+                              const GatherTree& gtree, int32_t gather, int32_t light) const {
+    // The BSDF's bound over every direction times the geometric bound: cheap (no cone), and
+    // never below node_error_bound.
+    const GatherTreeNode& G = gtree.node(gather);
+    const LightTreeNode& L = m_tree.node(light);
+    RGB b;
+    for (int32_t m = G.begin; m < G.end; ++m) {
+        int32_t i = gtree.members()[size_t(m)];
+        const WeightedGatherPoint& p = points[size_t(i)];
+        float gb = geometric_bound(L, p.g.si.p);
+        if (gb == 0) continue;
+        const RGB& all = m_all[size_t(i)];
+        for (int c = 0; c < 3; ++c)
+            if (p.w[c] != 0 && all[c] != 0 && L.intensity[c] != 0)
+                b[c] += p.w[c] * all[c] * gb * L.intensity[c];
+    }
+    return bound_luminance(b);
+}
+
+ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points,
+                                  const GatherTree& gtree, int32_t gather, int32_t light,
+                                  int32_t grep, int32_t lrep, const RGB& rep_value) const {
+    const GatherTreeNode& G = gtree.node(gather);
+    const LightTreeNode& L = m_tree.node(light);
+    const WeightedGatherPoint& gp = points[size_t(grep)];
+    ProductPair p{gather, light, grep, lrep, rep_value, RGB(), 0.f, true};
+    // The representative pair's value, weighted by the representative's share of the pixel and
+    // scaled to the strengths of both clusters: a * c * (S_G / w_grep) * (I_L / I_lrep).
+    RGB scale(gp.a);
+    if (!G.is_leaf()) scale = scale * strength_ratio(G.strength, gp.w);
+    if (!L.is_leaf()) scale = scale * strength_ratio(L.intensity, m_set.lights[size_t(lrep)].intensity);
+    p.estimate = rep_value * scale;
+    if (G.is_leaf() && L.is_leaf()) return p;  // exact
+    p.bound = loose_bound(points, gtree, gather, light);
+    p.tight = p.bound == 0;
+    return p;
+}
+
+bool ProductCut::split_gather(const GatherTree& gtree, const ProductPair& p) const {
+    const GatherTreeNode& G = gtree.node(p.gather);
+    const LightTreeNode& L = m_tree.node(p.light);
+    if (G.is_leaf()) return false;
+    if (L.is_leaf()) return true;
+    if (L.kind == PointLightKind::Directional) return false;
+    return length_squared(G.bounds.diagonal()) > length_squared(L.bounds.diagonal());
+}
+
+RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                       int k, const RGB& known, float error, int max_cut) {
+    m_cut.clear();
+    int32_t groot = gtree.root();
+    if (groot < 0) return RGB();
+    m_all.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+        m_all[i] = points[i].g.bsdf.max_value_bound(points[i].g.si.wo,
+                                                    DirectionCone::entire_sphere());
+
+    // 1. The first cut: the gather root with each light tree's root.
+    RGB total = known;
+    int32_t grep = gtree.node(groot).rep;
+    for (PointLightKind kind :
+         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+        int32_t lroot = m_tree.root(kind);
+        if (lroot < 0) continue;
+        int32_t lrep = m_tree.rep(lroot, k);
+        ProductPair p = make_pair(points, gtree, groot, lroot, grep, lrep,
+                                  value(points[size_t(grep)], lrep));
+        total += p.estimate;
+        m_cut.push_back(p);
+        std::push_heap(m_cut.begin(), m_cut.end());
+    }
+
+    // 2. Refine the pair with the largest bound until every bound is within the error.
+    while (!m_cut.empty() && int(m_cut.size()) < max_cut) {
+        const ProductPair& top = m_cut.front();
+        if (top.bound <= 0.f || top.bound <= error * total.luminance()) break;
+        std::pop_heap(m_cut.begin(), m_cut.end());
+        ProductPair p = m_cut.back();
+        m_cut.pop_back();
+        if (!p.tight) {
+            // Tighten the bound and look again: the pair may no longer be the worst.
+            float b = bound_luminance(tight_bound(points, gtree, p.gather, p.light));
+            p.bound = std::min(p.bound, b);
+            p.tight = true;
+            m_cut.push_back(p);
+            std::push_heap(m_cut.begin(), m_cut.end());
+            continue;
+        }
+        total = total - p.estimate;
+        // 3. Split one node; the child that holds the pair's representative keeps its value
+        // (no new shadow ray): node representatives are always one of their children's.
+        bool gather_side = split_gather(gtree, p);
+        const int32_t* children =
+            gather_side ? gtree.node(p.gather).children : m_tree.node(p.light).children;
+        for (int c = 0; c < 2; ++c) {
+            int32_t child = children[c];
+            ProductPair q;
+            if (gather_side) {
+                int32_t r = gtree.node(child).rep;
+                RGB v = r == p.grep ? p.rep_value : value(points[size_t(r)], p.lrep);
+                q = make_pair(points, gtree, child, p.light, r, p.lrep, v);
+            } else {
+                int32_t r = m_tree.rep(child, k);
+                RGB v = r == p.lrep ? p.rep_value : value(points[size_t(p.grep)], r);
+                q = make_pair(points, gtree, p.gather, child, p.grep, r, v);
+            }
+            total += q.estimate;
+            m_cut.push_back(q);
+            std::push_heap(m_cut.begin(), m_cut.end());
+        }
+    }
+    // Sum the cut afresh: the running total drifts by float cancellation.
+    RGB L;
+    for (const ProductPair& p : m_cut) L += p.estimate;
+    return L;
+}
+
+RGB ProductCut::exact(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                      int32_t gather, int32_t light) const {
+    const GatherTreeNode& G = gtree.node(gather);
+    RGB sum;
+    std::vector<int32_t> stack;
+    for (int32_t m = G.begin; m < G.end; ++m) {
+        const WeightedGatherPoint& p = points[size_t(gtree.members()[size_t(m)])];
+        stack.assign(1, light);
+        while (!stack.empty()) {
+            const LightTreeNode& n = m_tree.node(stack.back());
+            stack.pop_back();
+            if (n.is_leaf())
+                sum += p.a * value(p, n.light);
+            else
+                stack.insert(stack.end(), {n.children[0], n.children[1]});
+        }
+    }
+    return sum;
+}
+
+}  // namespace ml

@@ -1,0 +1,86 @@
+// The product cut of Multidimensional Lightcuts (Walter et al. 2006), restricted to one pixel
+// pass: a cut through the implicit product of the pass's gather tree and the light tree. A pair
+// (G, L) of a gather node and a light node stands for sum_{i in G} sum_{j in L} w_i c_i(j), the
+// light of L's lights at G's gather points weighted by their share w_i of the pixel; it is
+// shaded by its representative pair alone (one shadow ray) and scaled to the strengths of G and
+// L. Its error bound, sum_{i in G} w_i * node_error_bound(L, x_i), is a true upper bound of that
+// sum (bounds.h). The cut is refined, always splitting the pair with the largest bound, until
+// every bound is below the error times the pixel's estimate or the cut holds max_cut pairs.
+//
+// Which node a pair splits: a leaf cannot be split, so a pair with one leaf splits the other.
+// Otherwise the node with the larger bounding-box diagonal: both are measured against the same
+// distance between the boxes, so the larger box is the larger relative size, the one whose
+// spread loosens the bound most. A directional light node has no box (its geometric term does
+// not depend on where the gather points are, only on its cone of directions): it is split first.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "integrators/mdlightcuts/gather_tree.h"
+#include "integrators/vpl/vpl.h"
+#include "manylight/gather.h"
+#include "manylight/light_tree.h"
+#include "manylight/point_light_set.h"
+
+namespace ml {
+
+// A gather point of a pixel pass and its weight in the pass's pixel estimate.
+struct WeightedGatherPoint {
+    GatherPoint g;
+    float a = 0;  // its camera sample's filter weight over the sum of the pass's
+    RGB w;        // a * g.beta: the gather tree's strength of this point
+};
+
+struct ProductPair {
+    int32_t gather = -1, light = -1;  // gather-tree and light-tree nodes
+    int32_t grep = -1, lrep = -1;     // representatives: gather point and light indices
+    RGB rep_value;  // c_grep(lrep): point_light_contribution (beta included), clamped, visible
+    RGB estimate;   // the pair's estimate of its part of the pixel
+    float bound = 0;     // luminance of its error bound: 0 when exact, may be +infinity
+    bool tight = false;  // bound is the sum of node_error_bound (else the cheaper, looser one)
+    bool operator<(const ProductPair& o) const { return bound < o.bound; }
+};
+
+// One thread's cut maker (it keeps its buffers from pixel to pixel; it caches no bound).
+class ProductCut {
+public:
+    ProductCut(const Scene& scene, const PointLightSet& set, const LightTree& tree,
+               const ManyLightSettings& settings)
+        : m_scene(scene), m_set(set), m_tree(tree), m_settings(settings) {}
+
+    // The cut of one pixel pass: the pixel's radiance from the point lights. Light
+    // representative k (0 <= k < kLightTreeReps) of every light node. `known`: the rest of the
+    // pixel's estimate (emission, sampled direct light), which counts in the estimate that the
+    // error threshold is relative to. Clears the cut first.
+    RGB refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree, int k,
+               const RGB& known, float error, int max_cut);
+    // The cut refine() made (clustered pairs and exact ones alike).
+    const std::vector<ProductPair>& pairs() const { return m_cut; }
+
+    // The error bound of (G, L), RGB: sum over G's members of w_i * node_error_bound(L, x_i).
+    RGB tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                    int32_t gather, int32_t light) const;
+    // The exact sum the pair stands for: every member with every light, a shadow ray each.
+    RGB exact(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+              int32_t gather, int32_t light) const;
+
+private:
+    // c_i(j) with its shadow ray, VPL clamping applied.
+    RGB value(const WeightedGatherPoint& p, int32_t light) const;
+    ProductPair make_pair(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                          int32_t gather, int32_t light, int32_t grep, int32_t lrep,
+                          const RGB& rep_value) const;
+    float loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                      int32_t gather, int32_t light) const;
+    bool split_gather(const GatherTree& gtree, const ProductPair& p) const;
+
+    const Scene& m_scene;
+    const PointLightSet& m_set;
+    const LightTree& m_tree;
+    const ManyLightSettings& m_settings;
+    std::vector<ProductPair> m_cut;  // a max-heap on bound while refining
+    std::vector<RGB> m_all;          // per gather point: its BSDF's bound over every direction
+};
+
+}  // namespace ml
