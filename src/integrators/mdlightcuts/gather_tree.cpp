@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/rng.h"
+
 namespace ml {
 
 int GatherTree::build(const std::vector<Vec3>& p, const std::vector<RGB>& w,
@@ -13,7 +15,7 @@ int GatherTree::build(const std::vector<Vec3>& p, const std::vector<RGB>& w,
     m_nodes.reserve(2 * p.size() - 1);
     build_range(p, w, u, 0, int32_t(p.size()));
     // Every internal node's split position is a distinct member position in (0, n): the member
-    // at position 0 never decides one.
+    // at position 0 never gives one its bits.
     return m_order[0];
 }
 
@@ -28,7 +30,7 @@ int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RG
         node.strength += w[size_t(m_order[size_t(i)])];
     }
     if (end - begin == 1) {
-        node.rep = m_order[size_t(begin)];
+        node.point = m_order[size_t(begin)];
         m_nodes[size_t(id)] = node;
         return id;
     }
@@ -46,16 +48,23 @@ int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RG
     int32_t right = build_range(p, w, u, mid, end);
     node.children[0] = left, node.children[1] = right;
     // The children are built, so the order of [begin, end) is final: the uniform of the member
-    // at the split position decides, and no other node splits there.
-    float choice = u[size_t(m_order[size_t(mid)])];
-    // Representative: a child's, with probability proportional to its strength's luminance, so
-    // that every member is the representative with probability w_i / strength (luminance).
+    // at the split position is this node's, and no other node splits there.
+    node.bits = uint32_t(double(u[size_t(m_order[size_t(mid)])]) * 4294967296.0);
     float ll = std::max(0.f, m_nodes[size_t(left)].strength.luminance());
     float lr = std::max(0.f, m_nodes[size_t(right)].strength.luminance());
-    bool pick_left = ll + lr > 0 ? choice * (ll + lr) < ll : choice < 0.5f;
-    node.rep = m_nodes[size_t(pick_left ? left : right)].rep;
+    node.left_probability = ll + lr > 0 ? ll / (ll + lr) : 0.5f;
     m_nodes[size_t(id)] = node;
     return id;
+}
+
+int32_t GatherTree::rep(int32_t i, uint32_t key) const {
+    for (;;) {
+        const GatherTreeNode& n = m_nodes[size_t(i)];
+        if (n.is_leaf()) return n.point;
+        // A uniform of the node's bits and the key: 24 bits of the hash.
+        float v = float(hash_ints(n.bits, key) >> 40) * 0x1p-24f;
+        i = n.children[v < n.left_probability ? 0 : 1];
+    }
 }
 
 }  // namespace ml

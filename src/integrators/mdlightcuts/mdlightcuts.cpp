@@ -33,6 +33,15 @@ MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     m_samples = settings.get_int("samples", 16);
     m_error = settings.get_float("error", 0.02f);
     m_max_cut = settings.get_int("max_cut", 2000);
+    std::string criterion = settings.get_string("criterion", "max");
+    if (criterion == "max")
+        m_criterion = CutCriterion::Max;
+    else if (criterion == "probable")
+        m_criterion = CutCriterion::Probable;
+    else if (criterion == "sum")
+        m_criterion = CutCriterion::Sum;
+    else
+        throw UsageError("mdlightcuts.criterion must be max, probable or sum, not " + criterion);
     if (m_samples < 1) throw UsageError("mdlightcuts.samples must be at least 1");
     if (!(m_error >= 0) || m_max_cut < 1)
         throw UsageError("mdlightcuts: error must be >= 0 and max_cut >= 1");
@@ -179,7 +188,7 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     int pairs = 0;
     if (spare >= 0) {
         int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
-        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut);
+        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion);
         pairs = int(ts.cut.pairs().size());
     }
     ctx.film.add_sample(pixel, known + C, float(weight_sum));
@@ -202,13 +211,18 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
     double pixels = double(ctx.film.width()) * ctx.film.height();
     double shadow = double(stats::total().shadow);
     return fmt::format(
-        "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"max_cut\": {}, \"passes\": {}, "
+        "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"criterion\": \"{}\", "
+        "\"max_cut\": {}, \"passes\": {}, "
         "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"gather_points_per_pixel_pass\": "
         "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
         "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
-        m_samples, m_error, m_max_cut, passes, double(m_pair_sum.load()) / pixel_passes,
+        m_samples, m_error,
+        m_criterion == CutCriterion::Max
+            ? "max"
+            : (m_criterion == CutCriterion::Sum ? "sum" : "probable"),
+        m_max_cut, passes, double(m_pair_sum.load()) / pixel_passes,
         m_pair_max.load(), double(m_gather_points.load()) / pixel_passes, shadow / pixels,
         shadow / pixel_passes, m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9,
         m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.light_paths,

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
+#include "integrators/mdlightcuts/product_cut.h"
 #include "integrators/settings.h"
 #include "integrators/vpl/vpl.h"
 #include "manylight/direct.h"
@@ -44,6 +45,7 @@ private:
     int m_samples = 16;
     float m_error = 0.02f;
     int m_max_cut = 2000;
+    CutCriterion m_criterion = CutCriterion::Max;
     PointLightSet m_set;
     SampledDirectLight m_direct;
     LightTree m_tree;

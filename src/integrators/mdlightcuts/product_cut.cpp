@@ -16,6 +16,17 @@ float bound_luminance(const RGB& b) {
     return std::isnan(l) ? kInfinity : l;
 }
 
+// A pair's error bound from a bound of its exact value: both the estimate and the exact value lie
+// in [0, max(estimate, bound)] channel by channel, so that bounds their difference. The bound
+// alone would not: a gather representative that sees much more of L than the other members
+// (the one nearest a light, or the only one not in shadow) is scaled to the whole strength
+// of G, and its estimate may exceed the sum's bound many times.
+float error_bound(const RGB& value_bound, const RGB& estimate) {
+    RGB b;
+    for (int c = 0; c < 3; ++c) b[c] = std::max(value_bound[c], estimate[c]);
+    return bound_luminance(b);
+}
+
 // Channel by channel, whole / part (by luminance where the part has none in a channel): the
 // factor a representative is scaled by to stand for its cluster.
 RGB strength_ratio(const RGB& whole, const RGB& part) {
@@ -25,6 +36,26 @@ RGB strength_ratio(const RGB& whole, const RGB& part) {
     for (int c = 0; c < 3; ++c) r[c] = part[c] > 0 ? whole[c] / part[c] : lum_ratio;
     return r;
 }
+
+// The sum and the sum of squares of the clustered pairs' bounds, infinite ones counted apart
+// (an infinite bound added and taken out again would leave NaN).
+struct BoundSums {
+    double sum = 0, sq = 0;
+    int infinite = 0;
+    void add(float b, double sign) {
+        if (std::isinf(b))
+            infinite += int(sign);
+        else
+            sum += sign * b, sq += sign * double(b) * b;
+    }
+    bool within(CutCriterion criterion, float tolerance) const {
+        if (infinite > 0) return false;
+        if (criterion == CutCriterion::Sum) return sum <= tolerance;
+        // Hoeffding: independent zero-mean errors bounded by b_i exceed t with probability at
+        // most 2 exp(-t^2 / (2 sum b_i^2)); 3.26 sqrt(sum b_i^2) makes that 1%.
+        return 3.26 * std::sqrt(std::max(0.0, sq)) <= tolerance;
+    }
+};
 
 }  // namespace
 
@@ -51,8 +82,8 @@ RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points,
     return b;
 }
 
-float ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points,
-                              const GatherTree& gtree, int32_t gather, int32_t light) const {
+RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points,
+                            const GatherTree& gtree, int32_t gather, int32_t light) const {
     // The BSDF's bound over every direction times the geometric bound: cheap (no cone), and
     // never below node_error_bound.
     const GatherTreeNode& G = gtree.node(gather);
@@ -68,7 +99,7 @@ float ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points,
             if (p.w[c] != 0 && all[c] != 0 && L.intensity[c] != 0)
                 b[c] += p.w[c] * all[c] * gb * L.intensity[c];
     }
-    return bound_luminance(b);
+    return b;
 }
 
 ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points,
@@ -85,7 +116,7 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
     if (!L.is_leaf()) scale = scale * strength_ratio(L.intensity, m_set.lights[size_t(lrep)].intensity);
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
-    p.bound = loose_bound(points, gtree, gather, light);
+    p.bound = error_bound(loose_bound(points, gtree, gather, light), p.estimate);
     p.tight = p.bound == 0;
     return p;
 }
@@ -100,7 +131,7 @@ bool ProductCut::split_gather(const GatherTree& gtree, const ProductPair& p) con
 }
 
 RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
-                       int k, const RGB& known, float error, int max_cut) {
+                       int k, const RGB& known, float error, int max_cut, CutCriterion criterion) {
     m_cut.clear();
     int32_t groot = gtree.root();
     if (groot < 0) return RGB();
@@ -111,15 +142,17 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
 
     // 1. The first cut: the gather root with each light tree's root.
     RGB total = known;
-    int32_t grep = gtree.node(groot).rep;
+    BoundSums sums;
     for (PointLightKind kind :
          {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
         int32_t lroot = m_tree.root(kind);
         if (lroot < 0) continue;
         int32_t lrep = m_tree.rep(lroot, k);
+        int32_t grep = gtree.rep(groot, uint32_t(lrep));
         ProductPair p = make_pair(points, gtree, groot, lroot, grep, lrep,
                                   value(points[size_t(grep)], lrep));
         total += p.estimate;
+        sums.add(p.bound, 1);
         m_cut.push_back(p);
         std::push_heap(m_cut.begin(), m_cut.end());
     }
@@ -127,20 +160,27 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
     // 2. Refine the pair with the largest bound until every bound is within the error.
     while (!m_cut.empty() && int(m_cut.size()) < max_cut) {
         const ProductPair& top = m_cut.front();
-        if (top.bound <= 0.f || top.bound <= error * total.luminance()) break;
+        float tolerance = error * total.luminance();
+        if (top.bound <= 0.f) break;
+        if (criterion == CutCriterion::Max ? top.bound <= tolerance
+                                           : sums.within(criterion, tolerance))
+            break;
         std::pop_heap(m_cut.begin(), m_cut.end());
         ProductPair p = m_cut.back();
         m_cut.pop_back();
         if (!p.tight) {
             // Tighten the bound and look again: the pair may no longer be the worst.
-            float b = bound_luminance(tight_bound(points, gtree, p.gather, p.light));
+            float b = error_bound(tight_bound(points, gtree, p.gather, p.light), p.estimate);
+            sums.add(p.bound, -1);
             p.bound = std::min(p.bound, b);
+            sums.add(p.bound, 1);
             p.tight = true;
             m_cut.push_back(p);
             std::push_heap(m_cut.begin(), m_cut.end());
             continue;
         }
         total = total - p.estimate;
+        sums.add(p.bound, -1);
         // 3. Split one node; the child that holds the pair's representative keeps its value
         // (no new shadow ray): node representatives are always one of their children's.
         bool gather_side = split_gather(gtree, p);
@@ -150,15 +190,18 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
             int32_t child = children[c];
             ProductPair q;
             if (gather_side) {
-                int32_t r = gtree.node(child).rep;
+                int32_t r = gtree.rep(child, uint32_t(p.lrep));
                 RGB v = r == p.grep ? p.rep_value : value(points[size_t(r)], p.lrep);
                 q = make_pair(points, gtree, child, p.light, r, p.lrep, v);
             } else {
+                // The gather representative goes with the light representative (the key).
                 int32_t r = m_tree.rep(child, k);
-                RGB v = r == p.lrep ? p.rep_value : value(points[size_t(p.grep)], r);
-                q = make_pair(points, gtree, p.gather, child, p.grep, r, v);
+                int32_t g = r == p.lrep ? p.grep : gtree.rep(p.gather, uint32_t(r));
+                RGB v = r == p.lrep ? p.rep_value : value(points[size_t(g)], r);
+                q = make_pair(points, gtree, p.gather, child, g, r, v);
             }
             total += q.estimate;
+            sums.add(q.bound, 1);
             m_cut.push_back(q);
             std::push_heap(m_cut.begin(), m_cut.end());
         }

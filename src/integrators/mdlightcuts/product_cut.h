@@ -3,9 +3,24 @@
 // (G, L) of a gather node and a light node stands for sum_{i in G} sum_{j in L} w_i c_i(j), the
 // light of L's lights at G's gather points weighted by their share w_i of the pixel; it is
 // shaded by its representative pair alone (one shadow ray) and scaled to the strengths of G and
-// L. Its error bound, sum_{i in G} w_i * node_error_bound(L, x_i), is a true upper bound of that
-// sum (bounds.h). The cut is refined, always splitting the pair with the largest bound, until
+// L. sum_{i in G} w_i * node_error_bound(L, x_i) is a true upper bound of that sum (bounds.h);
+// the pair's error bound is the larger of it and the estimate, channel by channel, since both
+// the estimate and the exact sum lie between 0 and that. The cut is refined, always splitting the pair with the largest bound, until
 // every bound is below the error times the pixel's estimate or the cut holds max_cut pairs.
+//
+// Representatives: light node L uses its k-th (k drawn per pixel pass), gather node G the one
+// keyed by that light representative (gather_tree.h), so the gather representatives of a cut's
+// pairs are independent of one another and each pair's error has zero mean.
+//
+// When the cut is fine enough (`mdlightcuts.criterion`, as `lightcuts.criterion`):
+// - "max" (default): Walter et al.'s test, every pair's bound below the error times the estimate.
+//   One cut shades the whole pixel, so its pairs' errors add up with no other samples' to average
+//   with: the pixel's error is typically a few times the threshold.
+// - "probable": the representatives are drawn at random in proportion to strength, so each
+//   pair's error is zero-mean, independent of the others' and within +-its bound; refining until
+//   3.26 sqrt(sum of bounds^2) is below the error bounds the pixel's error by it with probability
+//   >= 99% (Hoeffding's inequality).
+// - "sum": the sum of the bounds below the error: a certain bound, at the price of large cuts.
 //
 // Which node a pair splits: a leaf cannot be split, so a pair with one leaf splits the other.
 // Otherwise the node with the larger bounding-box diagonal: both are measured against the same
@@ -32,12 +47,16 @@ struct WeightedGatherPoint {
     RGB w;        // a * g.beta: the gather tree's strength of this point
 };
 
+enum class CutCriterion { Max, Probable, Sum };
+
 struct ProductPair {
     int32_t gather = -1, light = -1;  // gather-tree and light-tree nodes
     int32_t grep = -1, lrep = -1;     // representatives: gather point and light indices
     RGB rep_value;  // c_grep(lrep): point_light_contribution (beta included), clamped, visible
     RGB estimate;   // the pair's estimate of its part of the pixel
-    float bound = 0;     // luminance of its error bound: 0 when exact, may be +infinity
+    // Luminance of its error bound, max(estimate, bound of the exact value) channel by channel:
+    // 0 when exact, may be +infinity.
+    float bound = 0;
     bool tight = false;  // bound is the sum of node_error_bound (else the cheaper, looser one)
     bool operator<(const ProductPair& o) const { return bound < o.bound; }
 };
@@ -54,7 +73,8 @@ public:
     // pixel's estimate (emission, sampled direct light), which counts in the estimate that the
     // error threshold is relative to. Clears the cut first.
     RGB refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree, int k,
-               const RGB& known, float error, int max_cut);
+               const RGB& known, float error, int max_cut,
+               CutCriterion criterion = CutCriterion::Max);
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
@@ -71,8 +91,8 @@ private:
     ProductPair make_pair(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                           int32_t gather, int32_t light, int32_t grep, int32_t lrep,
                           const RGB& rep_value) const;
-    float loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
-                      int32_t gather, int32_t light) const;
+    RGB loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                    int32_t gather, int32_t light) const;
     bool split_gather(const GatherTree& gtree, const ProductPair& p) const;
 
     const Scene& m_scene;
