@@ -33,6 +33,7 @@ MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     m_samples = settings.get_int("samples", 16);
     m_error = settings.get_float("error", 0.02f);
     m_max_cut = settings.get_int("max_cut", 2000);
+    m_tighten = settings.get_int("tighten", 1);
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
         m_criterion = CutCriterion::Max;
@@ -188,7 +189,8 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     int pairs = 0;
     if (spare >= 0) {
         int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
-        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion);
+        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion,
+                          m_tighten);
         pairs = int(ts.cut.pairs().size());
     }
     ctx.film.add_sample(pixel, known + C, float(weight_sum));
@@ -212,7 +214,7 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
     double shadow = double(stats::total().shadow);
     return fmt::format(
         "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"criterion\": \"{}\", "
-        "\"max_cut\": {}, \"passes\": {}, "
+        "\"max_cut\": {}, \"tighten\": {}, \"passes\": {}, "
         "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"gather_points_per_pixel_pass\": "
         "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
@@ -222,7 +224,7 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
         m_criterion == CutCriterion::Max
             ? "max"
             : (m_criterion == CutCriterion::Sum ? "sum" : "probable"),
-        m_max_cut, passes, double(m_pair_sum.load()) / pixel_passes,
+        m_max_cut, m_tighten, passes, double(m_pair_sum.load()) / pixel_passes,
         m_pair_max.load(), double(m_gather_points.load()) / pixel_passes, shadow / pixels,
         shadow / pixel_passes, m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9,
         m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.light_paths,

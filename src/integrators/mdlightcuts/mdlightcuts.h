@@ -45,6 +45,7 @@ private:
     int m_samples = 16;
     float m_error = 0.02f;
     int m_max_cut = 2000;
+    int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
     CutCriterion m_criterion = CutCriterion::Max;
     PointLightSet m_set;
     SampledDirectLight m_direct;

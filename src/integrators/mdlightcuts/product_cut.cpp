@@ -57,6 +57,18 @@ struct BoundSums {
     }
 };
 
+// The light node's box grown by the gather box's extent about its centre c: seen from c it holds
+// every vector from a member x to a light p (p - x = (p + c - x) - c), which is all the bounds
+// of bounds.h look at, so they bound every member at once.
+LightTreeNode grown_node(const LightTreeNode& L, const Bounds3& g) {
+    LightTreeNode grown = L;
+    if (L.kind == PointLightKind::Directional) return grown;
+    Vec3 c = g.center();
+    grown.bounds.lo = L.bounds.lo - (g.hi - c);
+    grown.bounds.hi = L.bounds.hi + (c - g.lo);
+    return grown;
+}
+
 }  // namespace
 
 RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
@@ -82,23 +94,17 @@ RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points,
     return b;
 }
 
-RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points,
-                            const GatherTree& gtree, int32_t gather, int32_t light) const {
-    // The BSDF's bound over every direction times the geometric bound: cheap (no cone), and
-    // never below node_error_bound.
+RGB ProductCut::loose_bound(const GatherTree& gtree, int32_t gather, int32_t light) const {
+    // sum_i w_i f_i(wo_i, wi) |cos| I / d^2 <= (sum_i w_i M_i) G_ub I_L, with M_i the BSDF's
+    // bound over every direction (no cone: cheap) and G_ub over the grown box. O(1) per pair.
     const GatherTreeNode& G = gtree.node(gather);
     const LightTreeNode& L = m_tree.node(light);
+    float gb = geometric_bound(grown_node(L, G.bounds), G.bounds.center());
+    const RGB& m = m_material_strength[size_t(gather)];
     RGB b;
-    for (int32_t m = G.begin; m < G.end; ++m) {
-        int32_t i = gtree.members()[size_t(m)];
-        const WeightedGatherPoint& p = points[size_t(i)];
-        float gb = geometric_bound(L, p.g.si.p);
-        if (gb == 0) continue;
-        const RGB& all = m_all[size_t(i)];
-        for (int c = 0; c < 3; ++c)
-            if (p.w[c] != 0 && all[c] != 0 && L.intensity[c] != 0)
-                b[c] += p.w[c] * all[c] * gb * L.intensity[c];
-    }
+    if (gb == 0) return b;
+    for (int c = 0; c < 3; ++c)
+        if (m[c] != 0 && L.intensity[c] != 0) b[c] = m[c] * gb * L.intensity[c];
     return b;
 }
 
@@ -116,7 +122,7 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
     if (!L.is_leaf()) scale = scale * strength_ratio(L.intensity, m_set.lights[size_t(lrep)].intensity);
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
-    p.bound = error_bound(loose_bound(points, gtree, gather, light), p.estimate);
+    p.bound = error_bound(loose_bound(gtree, gather, light), p.estimate);
     p.tight = p.bound == 0;
     return p;
 }
@@ -131,56 +137,75 @@ bool ProductCut::split_gather(const GatherTree& gtree, const ProductPair& p) con
 }
 
 RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
-                       int k, const RGB& known, float error, int max_cut, CutCriterion criterion) {
+                       int k, const RGB& known, float error, int max_cut, CutCriterion criterion,
+                       int tighten_members) {
     m_cut.clear();
     int32_t groot = gtree.root();
     if (groot < 0) return RGB();
-    m_all.resize(points.size());
-    for (size_t i = 0; i < points.size(); ++i)
-        m_all[i] = points[i].g.bsdf.max_value_bound(points[i].g.si.wo,
-                                                    DirectionCone::entire_sphere());
+    // Per gather node: sum over its members of w_i times their BSDF's bound over every
+    // direction (children come after their parent).
+    m_material_strength.resize(gtree.node_count());
+    for (size_t n = gtree.node_count(); n-- > 0;) {
+        const GatherTreeNode& G = gtree.node(int32_t(n));
+        if (G.is_leaf()) {
+            const WeightedGatherPoint& p = points[size_t(G.point)];
+            RGB m = p.g.bsdf.max_value_bound(p.g.si.wo, DirectionCone::entire_sphere());
+            for (int c = 0; c < 3; ++c) m[c] = p.w[c] == 0 ? 0.f : p.w[c] * m[c];
+            m_material_strength[n] = m;
+        } else {
+            m_material_strength[n] = m_material_strength[size_t(G.children[0])] +
+                                     m_material_strength[size_t(G.children[1])];
+        }
+    }
 
-    // 1. The first cut: the gather root with each light tree's root.
+    // 1. The first cut: the gather root with each light tree's root. The pairs live in m_cut;
+    // the heap holds (bound, index) entries, cheap to move.
     RGB total = known;
     BoundSums sums;
+    m_heap.clear();
+    auto push = [&](const ProductPair& p, size_t slot) {
+        total += p.estimate;
+        sums.add(p.bound, 1);
+        if (slot == m_cut.size())
+            m_cut.push_back(p);
+        else
+            m_cut[slot] = p;
+        m_heap.push_back({p.bound, int32_t(slot)});
+        std::push_heap(m_heap.begin(), m_heap.end());
+    };
     for (PointLightKind kind :
          {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
         int32_t lroot = m_tree.root(kind);
         if (lroot < 0) continue;
         int32_t lrep = m_tree.rep(lroot, k);
         int32_t grep = gtree.rep(groot, uint32_t(lrep));
-        ProductPair p = make_pair(points, gtree, groot, lroot, grep, lrep,
-                                  value(points[size_t(grep)], lrep));
-        total += p.estimate;
-        sums.add(p.bound, 1);
-        m_cut.push_back(p);
-        std::push_heap(m_cut.begin(), m_cut.end());
+        push(make_pair(points, gtree, groot, lroot, grep, lrep, value(points[size_t(grep)], lrep)),
+             m_cut.size());
     }
 
     // 2. Refine the pair with the largest bound until every bound is within the error.
-    while (!m_cut.empty() && int(m_cut.size()) < max_cut) {
-        const ProductPair& top = m_cut.front();
+    while (!m_heap.empty() && int(m_cut.size()) < max_cut) {
+        float top = m_heap.front().bound;
         float tolerance = error * total.luminance();
-        if (top.bound <= 0.f) break;
-        if (criterion == CutCriterion::Max ? top.bound <= tolerance
-                                           : sums.within(criterion, tolerance))
+        if (top <= 0.f) break;
+        if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(criterion, tolerance))
             break;
-        std::pop_heap(m_cut.begin(), m_cut.end());
-        ProductPair p = m_cut.back();
-        m_cut.pop_back();
-        if (!p.tight) {
-            // Tighten the bound and look again: the pair may no longer be the worst.
-            float b = error_bound(tight_bound(points, gtree, p.gather, p.light), p.estimate);
-            sums.add(p.bound, -1);
-            p.bound = std::min(p.bound, b);
-            sums.add(p.bound, 1);
-            p.tight = true;
-            m_cut.push_back(p);
-            std::push_heap(m_cut.begin(), m_cut.end());
-            continue;
-        }
+        std::pop_heap(m_heap.begin(), m_heap.end());
+        size_t slot = size_t(m_heap.back().slot);
+        m_heap.pop_back();
+        ProductPair p = m_cut[slot];
         total = total - p.estimate;
         sums.add(p.bound, -1);
+        if (!p.tight) {
+            // Tighten the bound and look again: the pair may no longer be the worst.
+            p.tight = true;
+            if (gtree.node(p.gather).end - gtree.node(p.gather).begin <= tighten_members) {
+                float b = error_bound(tight_bound(points, gtree, p.gather, p.light), p.estimate);
+                p.bound = std::min(p.bound, b);
+                push(p, slot);
+                continue;
+            }
+        }
         // 3. Split one node; the child that holds the pair's representative keeps its value
         // (no new shadow ray): node representatives are always one of their children's.
         bool gather_side = split_gather(gtree, p);
@@ -200,10 +225,7 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
                 RGB v = r == p.lrep ? p.rep_value : value(points[size_t(g)], r);
                 q = make_pair(points, gtree, p.gather, child, g, r, v);
             }
-            total += q.estimate;
-            sums.add(q.bound, 1);
-            m_cut.push_back(q);
-            std::push_heap(m_cut.begin(), m_cut.end());
+            push(q, c == 0 ? slot : m_cut.size());
         }
     }
     // Sum the cut afresh: the running total drifts by float cancellation.

@@ -57,8 +57,7 @@ struct ProductPair {
     // Luminance of its error bound, max(estimate, bound of the exact value) channel by channel:
     // 0 when exact, may be +infinity.
     float bound = 0;
-    bool tight = false;  // bound is the sum of node_error_bound (else the cheaper, looser one)
-    bool operator<(const ProductPair& o) const { return bound < o.bound; }
+    bool tight = false;  // bound is from tight_bound (else from loose_bound)
 };
 
 // One thread's cut maker (it keeps its buffers from pixel to pixel; it caches no bound).
@@ -71,10 +70,13 @@ public:
     // The cut of one pixel pass: the pixel's radiance from the point lights. Light
     // representative k (0 <= k < kLightTreeReps) of every light node. `known`: the rest of the
     // pixel's estimate (emission, sampled direct light), which counts in the estimate that the
-    // error threshold is relative to. Clears the cut first.
+    // error threshold is relative to. Clears the cut first. A pair whose gather node has at most
+    // `tighten_members` members gets its tight bound when it reaches the top of the heap (as
+    // Lightcuts does); a larger one is split on its loose bound, since the tight bound costs a
+    // material bound per member (about as much as several shadow rays).
     RGB refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree, int k,
                const RGB& known, float error, int max_cut,
-               CutCriterion criterion = CutCriterion::Max);
+               CutCriterion criterion = CutCriterion::Max, int tighten_members = 1 << 30);
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
@@ -91,16 +93,23 @@ private:
     ProductPair make_pair(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                           int32_t gather, int32_t light, int32_t grep, int32_t lrep,
                           const RGB& rep_value) const;
-    RGB loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
-                    int32_t gather, int32_t light) const;
+    // A cheaper bound of the pair's exact value, never below tight_bound.
+    RGB loose_bound(const GatherTree& gtree, int32_t gather, int32_t light) const;
     bool split_gather(const GatherTree& gtree, const ProductPair& p) const;
 
     const Scene& m_scene;
     const PointLightSet& m_set;
     const LightTree& m_tree;
     const ManyLightSettings& m_settings;
-    std::vector<ProductPair> m_cut;  // a max-heap on bound while refining
-    std::vector<RGB> m_all;          // per gather point: its BSDF's bound over every direction
+    struct HeapEntry {
+        float bound;
+        int32_t slot;  // index into m_cut
+        bool operator<(const HeapEntry& o) const { return bound < o.bound; }
+    };
+    std::vector<ProductPair> m_cut;
+    std::vector<HeapEntry> m_heap;  // a max-heap on bound while refining
+    // Per gather node: sum of w_i times the BSDF's bound over every direction.
+    std::vector<RGB> m_material_strength;
 };
 
 }  // namespace ml
