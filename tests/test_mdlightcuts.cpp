@@ -56,11 +56,12 @@ Image luminance_image(const Image& img) {
 
 template <typename Load>
 Agreement compare_with_exact(Load load, int res, int spp, float error,
-                             const std::string& criterion = "max") {
+                             const std::string& criterion = "max", int max_cut = 2000) {
     RenderOutput exact = render_scene(load(), many_light_options("vpl", res, spp));
     RenderOptions opt = many_light_options("mdlightcuts", res, spp);
     opt.set["mdlightcuts.error"] = fmt::format("{}", error);
     opt.set["mdlightcuts.criterion"] = criterion;
+    opt.set["mdlightcuts.max_cut"] = std::to_string(max_cut);
     RenderOutput md = render_scene(load(), opt);
     EXPECT_EQ(exact.figures.point_lights, md.figures.point_lights);
     EXPECT_EQ(exact.figures.spp, md.figures.spp);
@@ -75,25 +76,41 @@ Agreement compare_with_exact(Load load, int res, int spp, float error,
         "lights %zu (vpls %zu), %s error %.3f, %d spp: per-pixel relative difference p50 %.4f p90 "
         "%.4f p99 %.4f max %.4f; %.1f%% within the error, %.1f%% within 2.5x; image mean "
         "%+.3f%% (standard error %.3f%%)\n%s\n",
-        exact.figures.point_lights, exact.figures.vpls, criterion.c_str(), error, spp, a.percentile(0.5),
-        a.percentile(0.9), a.percentile(0.99), a.rel.back(), 100 * a.fraction_within(error),
-        100 * a.fraction_within(2.5 * error), 100 * a.mean.mean / a.mean.reference_mean,
+        exact.figures.point_lights, exact.figures.vpls, criterion.c_str(), error, spp,
+        a.percentile(0.5), a.percentile(0.9), a.percentile(0.99), a.rel.back(),
+        100 * a.fraction_within(error), 100 * a.fraction_within(2.5 * error),
+        100 * a.mean.mean / a.mean.reference_mean,
         100 * a.mean.stderr_of_mean / a.mean.reference_mean, md.figures.extra_json.c_str());
     return a;
 }
 
 }  // namespace
 
-// The cut's error against the brute-force sum over the same lights at the same gather points:
-// each pair is within the error of the pixel, and the representatives are drawn at random, so
-// the pixel's total error is mostly well within it; the image mean agrees within the noise.
+// The cut's error against the brute-force sum over the same lights at the same gather points.
+// Walter et al.'s criterion bounds each pair's error by the threshold, not the pixel's: one cut
+// shades all 16 samples, so its pairs' errors add up with nothing to average with, and the
+// pixel's error is about the threshold in half the pixels and a few times it in the worst 10%
+// (single-point Lightcuts at 16 spp averages 16 independent cuts). The representatives are drawn
+// at random, so the image mean agrees within the noise, and the error shrinks with the threshold.
 TEST(MdLightcuts, WithinTheErrorOfTheExactSum) {
     for (auto load : {cornell_4096, cornell}) {
-        Agreement a = compare_with_exact(load, 20, 16, 0.02f);
-        EXPECT_GE(a.fraction_within(2.5 * 0.02), 0.99);
-        EXPECT_LE(a.percentile(0.5), 0.02);
+        const float e = 0.02f;
+        Agreement a = compare_with_exact(load, 20, 16, e);
+        EXPECT_LE(a.percentile(0.5), 1.25 * e);
+        EXPECT_GE(a.fraction_within(3 * e), 0.9);
+        EXPECT_LE(a.percentile(0.99), 10 * e);
         EXPECT_NEAR(a.mean.mean, 0, 4 * a.mean.stderr_of_mean + 2e-3 * a.mean.reference_mean);
+        Agreement fine = compare_with_exact(load, 20, 16, e / 4);
+        EXPECT_GE(fine.fraction_within(2.5 * e), 0.98);
+        EXPECT_LT(fine.percentile(0.9), a.percentile(0.9));
     }
+}
+
+// With the "sum" criterion (and no cap on the cut) each pixel's error is bounded by the
+// threshold for certain: every pixel is within it.
+TEST(MdLightcuts, SumCriterionBoundsEveryPixel) {
+    Agreement a = compare_with_exact(cornell_4096, 10, 16, 0.05f, "sum", 1 << 24);
+    EXPECT_GE(a.fraction_within(0.05 * 1.001), 0.999);
 }
 
 // Two passes of 16 samples (spp 20 rounds up to 32) shade with independent representatives, so
@@ -137,7 +154,8 @@ TEST(MdLightcuts, PairBoundsAreUpperBoundsOfTheExactSum) {
         for (int s = 0; s < 16; ++s) {
             sampler->start_pixel_sample(pixel, s);
             Vec2 u = sampler->get_2d();
-            Ray ray = camera.generate_ray({Vec2(pixel.x + u.x, pixel.y + u.y), Vec2(0.5f, 0.5f), 0});
+            Ray ray =
+                camera.generate_ray({Vec2(pixel.x + u.x, pixel.y + u.y), Vec2(0.5f, 0.5f), 0});
             gather_along(scene, ray, *sampler, scratch, settings.max_depth,
                          [&](const GatherPoint& g, float uc) {
                              points.push_back({g, 1.f / 16, g.beta * (1.f / 16)});
@@ -183,8 +201,7 @@ TEST(MdLightcuts, PairBoundsAreUpperBoundsOfTheExactSum) {
                 EXPECT_GE(bound[c] * 1.0001f + 1e-9f, exact[c])
                     << "pixel " << pixel.x << "," << pixel.y << " gather node " << p.gather
                     << " light node " << p.light << " channel " << c;
-            if (!p.tight && p.bound > 0)
-                EXPECT_GE(p.bound * 1.0001f, bound.luminance());
+            if (!p.tight && p.bound > 0) EXPECT_GE(p.bound * 1.0001f, bound.luminance());
             ++checked;
         }
         scratch.reset();
@@ -217,6 +234,7 @@ TEST(MdLightcuts, BadSettingsAreUsageErrors) {
     EXPECT_THROW(render("mdlightcuts.error", "nan"), UsageError);
     EXPECT_THROW(render("mdlightcuts.max_cut", "0"), UsageError);
     EXPECT_THROW(render("mdlightcuts.samplez", "4"), UsageError);
+    EXPECT_THROW(render("mdlightcuts.criterion", "probable"), UsageError);
     EXPECT_THROW(render("lightcuts.criterion", "max"), UsageError);  // not ours
     EXPECT_THROW(render("mdlightcuts.samples", "many"), UsageError);
     EXPECT_NO_THROW(render("mdlightcuts.samples", "4"));

@@ -37,12 +37,10 @@ MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
         m_criterion = CutCriterion::Max;
-    else if (criterion == "probable")
-        m_criterion = CutCriterion::Probable;
     else if (criterion == "sum")
         m_criterion = CutCriterion::Sum;
     else
-        throw UsageError("mdlightcuts.criterion must be max, probable or sum, not " + criterion);
+        throw UsageError("mdlightcuts.criterion must be max or sum, not " + criterion);
     if (m_samples < 1) throw UsageError("mdlightcuts.samples must be at least 1");
     if (!(m_error >= 0) || m_max_cut < 1)
         throw UsageError("mdlightcuts: error must be >= 0 and max_cut >= 1");
@@ -177,11 +175,10 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
         ts.weights.push_back(p.w);
     }
     int spare = ts.tree.build(ts.positions, ts.weights, ts.uniforms);
-    m_gather_tree_ns.fetch_add(
-        uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                     std::chrono::steady_clock::now() - t0)
-                     .count()),
-        std::memory_order_relaxed);
+    m_gather_tree_ns.fetch_add(uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                            std::chrono::steady_clock::now() - t0)
+                                            .count()),
+                               std::memory_order_relaxed);
 
     // 3. The product cut, with the light representative drawn from the uniform the gather
     // tree left.
@@ -189,8 +186,7 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     int pairs = 0;
     if (spare >= 0) {
         int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
-        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion,
-                          m_tighten);
+        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion, m_tighten);
         pairs = int(ts.cut.pairs().size());
     }
     ctx.film.add_sample(pixel, known + C, float(weight_sum));
@@ -220,14 +216,11 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
         "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
         "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
-        m_samples, m_error,
-        m_criterion == CutCriterion::Max
-            ? "max"
-            : (m_criterion == CutCriterion::Sum ? "sum" : "probable"),
-        m_max_cut, m_tighten, passes, double(m_pair_sum.load()) / pixel_passes,
-        m_pair_max.load(), double(m_gather_points.load()) / pixel_passes, shadow / pixels,
-        shadow / pixel_passes, m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9,
-        m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.light_paths,
+        m_samples, m_error, m_criterion == CutCriterion::Max ? "max" : "sum", m_max_cut, m_tighten,
+        passes, double(m_pair_sum.load()) / pixel_passes, m_pair_max.load(),
+        double(m_gather_points.load()) / pixel_passes, shadow / pixels, shadow / pixel_passes,
+        m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni,
+        m_set.oriented, m_set.directional, m_set.light_paths,
         m_direct.empty() ? "points" : "sample", m_direct.empty() ? 0 : m_direct.samples());
 }
 

@@ -1,6 +1,7 @@
 #include "integrators/mdlightcuts/product_cut.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/cone.h"
@@ -37,24 +38,18 @@ RGB strength_ratio(const RGB& whole, const RGB& part) {
     return r;
 }
 
-// The sum and the sum of squares of the clustered pairs' bounds, infinite ones counted apart
-// (an infinite bound added and taken out again would leave NaN).
+// The sum of the clustered pairs' bounds, infinite ones counted apart (an infinite bound added
+// and taken out again would leave NaN).
 struct BoundSums {
-    double sum = 0, sq = 0;
+    double sum = 0;
     int infinite = 0;
     void add(float b, double sign) {
         if (std::isinf(b))
             infinite += int(sign);
         else
-            sum += sign * b, sq += sign * double(b) * b;
+            sum += sign * b;
     }
-    bool within(CutCriterion criterion, float tolerance) const {
-        if (infinite > 0) return false;
-        if (criterion == CutCriterion::Sum) return sum <= tolerance;
-        // Hoeffding: independent zero-mean errors bounded by b_i exceed t with probability at
-        // most 2 exp(-t^2 / (2 sum b_i^2)); 3.26 sqrt(sum b_i^2) makes that 1%.
-        return 3.26 * std::sqrt(std::max(0.0, sq)) <= tolerance;
-    }
+    bool within(float tolerance) const { return infinite == 0 && sum <= tolerance; }
 };
 
 // The light node's box grown by the gather box's extent about its centre c: seen from c it holds
@@ -69,6 +64,31 @@ LightTreeNode grown_node(const LightTreeNode& L, const Bounds3& g) {
     return grown;
 }
 
+// The fixed cones of directions: 26 axes (the cube's faces, edges and corners), every direction
+// within 27.6 degrees of one, each with a half-angle of kDirectionBinAngle.
+const std::array<Vec3, kDirectionBins>& direction_bins() {
+    static const std::array<Vec3, kDirectionBins> bins = [] {
+        std::array<Vec3, kDirectionBins> b;
+        int n = 0;
+        for (int i = -1; i <= 1; ++i)
+            for (int j = -1; j <= 1; ++j)
+                for (int k = -1; k <= 1; ++k)
+                    if (i || j || k) b[size_t(n++)] = normalize(Vec3(float(i), float(j), float(k)));
+        return b;
+    }();
+    return bins;
+}
+
+int nearest_direction_bin(const Vec3& w) {
+    int best = 0;
+    float best_dot = -2;
+    for (int j = 0; j < kDirectionBins; ++j) {
+        float d = dot(w, direction_bins()[size_t(j)]);
+        if (d > best_dot) best_dot = d, best = j;
+    }
+    return best;
+}
+
 }  // namespace
 
 RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
@@ -80,8 +100,8 @@ RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
     return m_scene.occluded(shadow) ? RGB() : c;
 }
 
-RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points,
-                            const GatherTree& gtree, int32_t gather, int32_t light) const {
+RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                            int32_t gather, int32_t light) const {
     const GatherTreeNode& G = gtree.node(gather);
     const LightTreeNode& L = m_tree.node(light);
     RGB b;
@@ -94,15 +114,50 @@ RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points,
     return b;
 }
 
-RGB ProductCut::loose_bound(const GatherTree& gtree, int32_t gather, int32_t light) const {
-    // sum_i w_i f_i(wo_i, wi) |cos| I / d^2 <= (sum_i w_i M_i) G_ub I_L, with M_i the BSDF's
-    // bound over every direction (no cone: cheap) and G_ub over the grown box. O(1) per pair.
+const RGB& ProductCut::bin_strength(const std::vector<WeightedGatherPoint>& points,
+                                    const GatherTree& gtree, int32_t gather, int bin) const {
+    size_t i = size_t(gather) * kDirectionBins + size_t(bin);
+    if (m_bin_done[i]) return m_bin_strength[i];
+    const GatherTreeNode& G = gtree.node(gather);
+    RGB m;
+    if (G.is_leaf()) {
+        const WeightedGatherPoint& p = points[size_t(G.point)];
+        RGB b = p.g.bsdf.max_value_bound(p.g.si.wo,
+                                         DirectionCone(direction_bins()[bin], kDirectionBinCos));
+        for (int c = 0; c < 3; ++c) m[c] = (p.w[c] == 0 || b[c] == 0) ? 0.f : p.w[c] * b[c];
+    } else {
+        m = bin_strength(points, gtree, G.children[0], bin) +
+            bin_strength(points, gtree, G.children[1], bin);
+    }
+    m_bin_done[i] = 1;
+    m_bin_strength[i] = m;
+    return m_bin_strength[i];
+}
+
+RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                            int32_t gather, int32_t light) const {
+    // sum_i w_i f_i(wo_i, wi) |cos| I / d^2 <= (sum_i w_i M_i) G_ub I_L, with G_ub over the
+    // grown box and M_i the BSDF's bound over a fixed cone of directions holding every
+    // direction from the members to the lights (the cone towards the grown box), else over
+    // every direction. The fixed cones' bounds are summed per gather node once per pass, so this
+    // is O(1) per pair, where the tight bound costs a material bound per member.
     const GatherTreeNode& G = gtree.node(gather);
     const LightTreeNode& L = m_tree.node(light);
-    float gb = geometric_bound(grown_node(L, G.bounds), G.bounds.center());
-    const RGB& m = m_material_strength[size_t(gather)];
     RGB b;
+    LightTreeNode grown = grown_node(L, G.bounds);
+    Vec3 x = G.bounds.center();
+    float gb = geometric_bound(grown, x);
     if (gb == 0) return b;
+    RGB m = m_material_strength[size_t(gather)];
+    DirectionCone cone = node_direction_cone(grown, x);
+    if (!cone.is_entire_sphere() && !cone.is_empty()) {
+        int bin = nearest_direction_bin(cone.axis);
+        if (angle_between(cone.axis, direction_bins()[bin]) + cone_angle(cone) <=
+            kDirectionBinAngle) {
+            const RGB& mb = bin_strength(points, gtree, gather, bin);
+            for (int c = 0; c < 3; ++c) m[c] = std::min(m[c], mb[c]);
+        }
+    }
     for (int c = 0; c < 3; ++c)
         if (m[c] != 0 && L.intensity[c] != 0) b[c] = m[c] * gb * L.intensity[c];
     return b;
@@ -119,10 +174,11 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
     // scaled to the strengths of both clusters: a * c * (S_G / w_grep) * (I_L / I_lrep).
     RGB scale(gp.a);
     if (!G.is_leaf()) scale = scale * strength_ratio(G.strength, gp.w);
-    if (!L.is_leaf()) scale = scale * strength_ratio(L.intensity, m_set.lights[size_t(lrep)].intensity);
+    if (!L.is_leaf())
+        scale = scale * strength_ratio(L.intensity, m_set.lights[size_t(lrep)].intensity);
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
-    p.bound = error_bound(loose_bound(gtree, gather, light), p.estimate);
+    p.bound = error_bound(loose_bound(points, gtree, gather, light), p.estimate);
     p.tight = p.bound == 0;
     return p;
 }
@@ -145,6 +201,8 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
     // Per gather node: sum over its members of w_i times their BSDF's bound over every
     // direction (children come after their parent).
     m_material_strength.resize(gtree.node_count());
+    m_bin_strength.resize(gtree.node_count() * kDirectionBins);
+    m_bin_done.assign(gtree.node_count() * kDirectionBins, 0);
     for (size_t n = gtree.node_count(); n-- > 0;) {
         const GatherTreeNode& G = gtree.node(int32_t(n));
         if (G.is_leaf()) {
@@ -188,8 +246,7 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
         float top = m_heap.front().bound;
         float tolerance = error * total.luminance();
         if (top <= 0.f) break;
-        if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(criterion, tolerance))
-            break;
+        if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
         std::pop_heap(m_heap.begin(), m_heap.end());
         size_t slot = size_t(m_heap.back().slot);
         m_heap.pop_back();

@@ -5,8 +5,9 @@
 // shaded by its representative pair alone (one shadow ray) and scaled to the strengths of G and
 // L. sum_{i in G} w_i * node_error_bound(L, x_i) is a true upper bound of that sum (bounds.h);
 // the pair's error bound is the larger of it and the estimate, channel by channel, since both
-// the estimate and the exact sum lie between 0 and that. The cut is refined, always splitting the pair with the largest bound, until
-// every bound is below the error times the pixel's estimate or the cut holds max_cut pairs.
+// the estimate and the exact sum lie between 0 and that. The cut is refined, always splitting the
+// pair with the largest bound, until every bound is below the error times the pixel's estimate or
+// the cut holds max_cut pairs.
 //
 // Representatives: light node L uses its k-th (k drawn per pixel pass), gather node G the one
 // keyed by that light representative (gather_tree.h), so the gather representatives of a cut's
@@ -15,11 +16,11 @@
 // When the cut is fine enough (`mdlightcuts.criterion`, as `lightcuts.criterion`):
 // - "max" (default): Walter et al.'s test, every pair's bound below the error times the estimate.
 //   One cut shades the whole pixel, so its pairs' errors add up with no other samples' to average
-//   with: the pixel's error is typically a few times the threshold.
-// - "probable": the representatives are drawn at random in proportion to strength, so each
-//   pair's error is zero-mean, independent of the others' and within +-its bound; refining until
-//   3.26 sqrt(sum of bounds^2) is below the error bounds the pixel's error by it with probability
-//   >= 99% (Hoeffding's inequality).
+//   with: the pixel's error is typically about the threshold, a few times it in 10% of pixels.
+//   (A Hoeffding test on sqrt(sum of bounds^2), as `lightcuts.criterion=probable`, is unsound
+//   here: the cut is refined where the estimates happen to be high, so the errors of the pairs
+//   left are not zero-mean; with tens of thousands of pairs they added up to 80% in 1% of the
+//   Cornell box's pixels.)
 // - "sum": the sum of the bounds below the error: a certain bound, at the price of large cuts.
 //
 // Which node a pair splits: a leaf cannot be split, so a pair with one leaf splits the other.
@@ -40,6 +41,11 @@
 
 namespace ml {
 
+// Fixed cones of directions the loose bound uses (product_cut.cpp): 26 axes, half-angle 45 deg.
+constexpr int kDirectionBins = 26;
+constexpr float kDirectionBinAngle = 0.7853982f;
+constexpr float kDirectionBinCos = 0.70710678f;
+
 // A gather point of a pixel pass and its weight in the pass's pixel estimate.
 struct WeightedGatherPoint {
     GatherPoint g;
@@ -47,7 +53,7 @@ struct WeightedGatherPoint {
     RGB w;        // a * g.beta: the gather tree's strength of this point
 };
 
-enum class CutCriterion { Max, Probable, Sum };
+enum class CutCriterion { Max, Sum };
 
 struct ProductPair {
     int32_t gather = -1, light = -1;  // gather-tree and light-tree nodes
@@ -94,7 +100,11 @@ private:
                           int32_t gather, int32_t light, int32_t grep, int32_t lrep,
                           const RGB& rep_value) const;
     // A cheaper bound of the pair's exact value, never below tight_bound.
-    RGB loose_bound(const GatherTree& gtree, int32_t gather, int32_t light) const;
+    RGB loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                    int32_t gather, int32_t light) const;
+    // Sum over the node's members of w_i times the BSDF's bound over fixed cone `bin`.
+    const RGB& bin_strength(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                            int32_t gather, int bin) const;
     bool split_gather(const GatherTree& gtree, const ProductPair& p) const;
 
     const Scene& m_scene;
@@ -110,6 +120,9 @@ private:
     std::vector<HeapEntry> m_heap;  // a max-heap on bound while refining
     // Per gather node: sum of w_i times the BSDF's bound over every direction.
     std::vector<RGB> m_material_strength;
+    // Per gather node and fixed cone: bin_strength, computed on first use in the pass.
+    mutable std::vector<RGB> m_bin_strength;
+    mutable std::vector<uint8_t> m_bin_done;
 };
 
 }  // namespace ml
