@@ -93,15 +93,17 @@ public:
     RGB exact(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
               int32_t gather, int32_t light) const;
 
+    // A cheaper bound of the pair's exact value, never below tight_bound (valid after refine() with
+    // the same points and tree).
+    RGB loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
+                    int32_t gather, int32_t light) const;
+
 private:
     // c_i(j) with its shadow ray, VPL clamping applied.
     RGB value(const WeightedGatherPoint& p, int32_t light) const;
     ProductPair make_pair(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                           int32_t gather, int32_t light, int32_t grep, int32_t lrep,
                           const RGB& rep_value) const;
-    // A cheaper bound of the pair's exact value, never below tight_bound.
-    RGB loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
-                    int32_t gather, int32_t light) const;
     // Sum over the node's members of w_i times the BSDF's bound over fixed cone `bin`.
     const RGB& bin_strength(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                             int32_t gather, int bin) const;
