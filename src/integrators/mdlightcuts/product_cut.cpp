@@ -38,6 +38,8 @@ RGB strength_ratio(const RGB& whole, const RGB& part) {
     return r;
 }
 
+constexpr float kSpikeFraction = 0.25f;
+
 // The sum of the clustered pairs' bounds, infinite ones counted apart (an infinite bound added
 // and taken out again would leave NaN).
 struct BoundSums {
@@ -242,10 +244,15 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
     }
 
     // 2. Refine the pair with the largest bound until every bound is within the error.
-    while (!m_heap.empty() && int(m_cut.size()) < max_cut) {
+    while (!m_heap.empty() && int(m_cut.size()) < 2 * max_cut) {
         float top = m_heap.front().bound;
         float tolerance = error * total.luminance();
         if (top <= 0.f) break;
+        // At max_cut pairs only a pair whose bound is a large part of the pixel's estimate is
+        // still split (up to twice as many pairs): a representative that happens to sit next to
+        // its gather point (the 1/d^2 of a VPL) makes a spike, which a cut stopped at its cap
+        // would keep, a firefly in the image.
+        if (int(m_cut.size()) >= max_cut && !(top > kSpikeFraction * total.luminance())) break;
         if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
         std::pop_heap(m_heap.begin(), m_heap.end());
         size_t slot = size_t(m_heap.back().slot);
