@@ -249,9 +249,12 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
         float tolerance = error * total.luminance();
         if (top <= 0.f) break;
         // At max_cut pairs only a pair whose bound is a large part of the pixel's estimate is
-        // still split (up to twice as many pairs): a representative that happens to sit next to
-        // its gather point (the 1/d^2 of a VPL) makes a spike, which a cut stopped at its cap
-        // would keep, a firefly in the image.
+        // still split (up to twice as many pairs): a rare representative scaled to its whole
+        // cluster makes a spike (an estimate up to ~100x the pair's value), which a cut stopped
+        // at its cap would keep, a firefly in the image. It does not remove them all: on glossy
+        // receivers the loose bounds of many pairs are far above their values (kitchen: 10 to
+        // 14 against 0.04), the cut runs to 2 max_cut in no useful order, and a spike among them
+        // survives (bench/RESULTS.md).
         if (int(m_cut.size()) >= max_cut && !(top > kSpikeFraction * total.luminance())) break;
         if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
         std::pop_heap(m_heap.begin(), m_heap.end());
