@@ -7,11 +7,14 @@
 // the pair's error bound is the larger of it and the estimate, channel by channel, since both
 // the estimate and the exact sum lie between 0 and that. The cut is refined, always splitting the
 // pair with the largest bound, until every bound is below the error times the pixel's estimate or
-// the cut holds max_cut pairs.
+// the cut holds max_cut pairs (past which only pairs whose bound is a quarter of the estimate
+// are split, up to 2 max_cut).
 //
 // Representatives: light node L uses its k-th (k drawn per pixel pass), gather node G the one
 // keyed by that light representative (gather_tree.h), so the gather representatives of a cut's
-// pairs are independent of one another and each pair's error has zero mean.
+// pairs are independent of one another and each pair's error has zero mean (exactly so where
+// the lights of a node share one colour: the channel-by-channel scaling, as in lightcuts.cpp, is
+// biased for mixed colours).
 //
 // When the cut is fine enough (`mdlightcuts.criterion`, as `lightcuts.criterion`):
 // - "max" (default): Walter et al.'s test, every pair's bound below the error times the estimate.
