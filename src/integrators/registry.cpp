@@ -4,6 +4,7 @@
 #include "integrators/direct/direct.h"
 #include "integrators/lightcuts/lightcuts.h"
 #include "integrators/lighttracer/lighttracer.h"
+#include "integrators/mdlightcuts/mdlightcuts.h"
 #include "integrators/mlt/mlt.h"
 #include "integrators/path/path.h"
 #include "integrators/pssmlt/pssmlt.h"
@@ -46,6 +47,10 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<VplIntegrator>},
         {"lightcuts", "Lightcuts: the vpl integrator's lights clustered, error-bounded cuts",
          make<LightcutsIntegrator>},
+        {"mdlightcuts",
+         "multidimensional Lightcuts: one cut through the product of a pixel's gather points and "
+         "the light tree",
+         make<MdLightcutsIntegrator>},
     };
     return table;
 }

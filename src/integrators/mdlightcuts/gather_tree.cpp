@@ -1,0 +1,70 @@
+#include "integrators/mdlightcuts/gather_tree.h"
+
+#include <algorithm>
+
+#include "core/rng.h"
+
+namespace ml {
+
+int GatherTree::build(const std::vector<Vec3>& p, const std::vector<RGB>& w,
+                      const std::vector<float>& u) {
+    m_nodes.clear();
+    m_order.resize(p.size());
+    for (size_t i = 0; i < p.size(); ++i) m_order[i] = int32_t(i);
+    if (p.empty()) return -1;
+    m_nodes.reserve(2 * p.size() - 1);
+    build_range(p, w, u, 0, int32_t(p.size()));
+    // Every internal node's split position is a distinct member position in (0, n): the member
+    // at position 0 never gives one its bits.
+    return m_order[0];
+}
+
+int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RGB>& w,
+                                const std::vector<float>& u, int32_t begin, int32_t end) {
+    int32_t id = int32_t(m_nodes.size());
+    m_nodes.emplace_back();
+    GatherTreeNode node;
+    node.begin = begin, node.end = end;
+    for (int32_t i = begin; i < end; ++i) {
+        node.bounds.expand(p[size_t(m_order[size_t(i)])]);
+        node.strength += w[size_t(m_order[size_t(i)])];
+    }
+    if (end - begin == 1) {
+        node.point = m_order[size_t(begin)];
+        m_nodes[size_t(id)] = node;
+        return id;
+    }
+    // Split at the median along the longest axis (ties broken by index, so the order is the
+    // same on every platform and run).
+    Vec3 d = node.bounds.diagonal();
+    int axis = (d.x >= d.y && d.x >= d.z) ? 0 : (d.y >= d.z ? 1 : 2);
+    int32_t mid = begin + (end - begin) / 2;
+    std::nth_element(m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
+                     [&](int32_t a, int32_t b) {
+                         float pa = p[size_t(a)][axis], pb = p[size_t(b)][axis];
+                         return pa < pb || (pa == pb && a < b);
+                     });
+    int32_t left = build_range(p, w, u, begin, mid);
+    int32_t right = build_range(p, w, u, mid, end);
+    node.children[0] = left, node.children[1] = right;
+    // The children are built, so the order of [begin, end) is final: the uniform of the member
+    // at the split position is this node's, and no other node splits there.
+    node.bits = uint32_t(double(u[size_t(m_order[size_t(mid)])]) * 4294967296.0);
+    float ll = std::max(0.f, m_nodes[size_t(left)].strength.luminance());
+    float lr = std::max(0.f, m_nodes[size_t(right)].strength.luminance());
+    node.left_probability = ll + lr > 0 ? ll / (ll + lr) : 0.5f;
+    m_nodes[size_t(id)] = node;
+    return id;
+}
+
+int32_t GatherTree::rep(int32_t i, uint32_t key) const {
+    for (;;) {
+        const GatherTreeNode& n = m_nodes[size_t(i)];
+        if (n.is_leaf()) return n.point;
+        // A uniform of the node's bits and the key: 24 bits of the hash.
+        float v = float(hash_ints(n.bits, key) >> 40) * 0x1p-24f;
+        i = n.children[v < n.left_probability ? 0 : 1];
+    }
+}
+
+}  // namespace ml

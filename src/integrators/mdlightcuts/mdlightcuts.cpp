@@ -1,0 +1,227 @@
+#include "integrators/mdlightcuts/mdlightcuts.h"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "core/stats.h"
+#include "integrators/mdlightcuts/gather_tree.h"
+#include "integrators/mdlightcuts/product_cut.h"
+#include "manylight/gather.h"
+
+namespace ml {
+
+struct MdLightcutsIntegrator::ThreadState {
+    ThreadState(std::unique_ptr<Sampler> s, ProductCut c)
+        : sampler(std::move(s)), cut(std::move(c)) {}
+    std::unique_ptr<Sampler> sampler;
+    ScratchBuffer scratch;  // the pass's BSDFs: reset after each pixel pass
+    ProductCut cut;
+    GatherTree tree;
+    std::vector<WeightedGatherPoint> points;
+    std::vector<Vec3> positions;
+    std::vector<RGB> weights;
+    std::vector<float> uniforms;
+};
+
+MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
+    : m_settings(ManyLightSettings::read(settings)) {
+    m_samples = settings.get_int("samples", 16);
+    m_error = settings.get_float("error", 0.02f);
+    m_max_cut = settings.get_int("max_cut", 2000);
+    m_tighten = settings.get_int("tighten", 1);
+    std::string criterion = settings.get_string("criterion", "max");
+    if (criterion == "max")
+        m_criterion = CutCriterion::Max;
+    else if (criterion == "sum")
+        m_criterion = CutCriterion::Sum;
+    else
+        throw UsageError("mdlightcuts.criterion must be max or sum, not " + criterion);
+    if (m_samples < 1) throw UsageError("mdlightcuts.samples must be at least 1");
+    if (!(m_error >= 0) || m_max_cut < 1)
+        throw UsageError("mdlightcuts: error must be >= 0 and max_cut >= 1");
+}
+
+void MdLightcutsIntegrator::prepare(const Scene& scene) {
+    m_set = build_point_light_set(scene, m_settings.lights);
+    if (m_settings.lights.sampled_direct)
+        m_direct = SampledDirectLight(scene, m_settings.direct_samples);
+    auto t0 = std::chrono::steady_clock::now();
+    LightTreeOptions opts;
+    opts.seed = m_settings.lights.seed;
+    opts.scene_diagonal = length(scene.bounds().diagonal());
+    m_tree = LightTree(m_set.lights, opts);
+    m_tree_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
+    prepare(ctx.scene);
+    const int w = ctx.film.width(), h = ctx.film.height();
+    m_pixel_pairs.assign(size_t(w) * h, 0.f);
+    m_pixel_passes_done.assign(m_pixel_pairs.size(), 0);
+    m_pair_sum = 0, m_pixel_passes = 0, m_gather_points = 0, m_gather_tree_ns = 0, m_pair_max = 0;
+    tbb::enumerable_thread_specific<ThreadState> states([&] {
+        return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
+    });
+    auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+
+    // Rounds of passes [p0, p1): all passes at once for a sample count; under a time limit,
+    // rounds sized (at most 4x the last) to end in time, as PixelIntegrator does with samples.
+    const int passes = (ctx.spp + m_samples - 1) / m_samples;
+    int done = 0;
+    int round = ctx.time_limit > 0 ? 1 : passes;
+    std::atomic<int64_t> rows_done{0};
+    const int64_t total_rows = int64_t(h) * passes;
+    while (done < passes) {
+        int p0 = done, p1 = std::min(passes, done + round);
+        double round_start = elapsed();
+        tbb::parallel_for(
+            tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
+                ThreadState& ts = states.local();
+                for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+                    for (int x = r.cols().begin(); x < r.cols().end(); ++x)
+                        for (int p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, {x, y}, p);
+                    if (ctx.progress) {
+                        int64_t n = int64_t(p1 - p0) * r.cols().size() / w;
+                        int64_t rd = rows_done.fetch_add(n) + n;
+                        ctx.progress->set_fraction(ctx.time_limit > 0
+                                                       ? elapsed() / ctx.time_limit
+                                                       : double(rd) / double(total_rows));
+                    }
+                }
+            });
+        done = p1;
+        if (ctx.time_limit > 0) {
+            double per_pass = (elapsed() - round_start) / (p1 - p0);
+            double left = ctx.time_limit - elapsed();
+            round = int(std::min(4.0 * (p1 - p0), 0.95 * left / std::max(per_pass, 1e-9)));
+            if (round < 1) break;
+        }
+    }
+
+    RenderResult result;
+    result.spp = done * m_samples;
+    result.point_lights = m_set.lights.size();
+    result.vpls = m_set.vpls;
+    result.extra_json = figures_json(ctx, done);
+    // The cut-size heat map: the mean number of pairs of each pixel's passes.
+    Image cut(w, h);
+    for (size_t i = 0; i < m_pixel_pairs.size(); ++i)
+        cut.pixels[i] =
+            RGB(m_pixel_passes_done[i] ? m_pixel_pairs[i] / float(m_pixel_passes_done[i]) : 0.f);
+    result.aovs["cutsize"] = std::move(cut);
+    return result;
+}
+
+void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadState& ts,
+                                              Point2i pixel, int pass) const {
+    const Scene& scene = ctx.scene;
+    Sampler& sampler = *ts.sampler;
+    ts.points.clear();
+
+    // 1. The pass's camera samples, exactly as PixelIntegrator takes them, each followed to its
+    // gather points; emission and sampled direct light are summed here, weighted by filter.
+    RGB known;
+    double weight_sum = 0;
+    ts.uniforms.clear();
+    for (int s = 0; s < m_samples; ++s) {
+        sampler.start_pixel_sample(pixel, pass * m_samples + s);
+        FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
+        CameraSample cs;
+        cs.p_film = Vec2(pixel.x + 0.5f + fs.p.x, pixel.y + 0.5f + fs.p.y);
+        cs.time = sampler.get_1d();
+        cs.p_lens = sampler.get_2d();
+        Ray ray = ctx.camera.generate_ray(cs);
+        stats::count_camera_ray();
+        size_t first = ts.points.size();
+        RGB L = gather_along(scene, ray, sampler, ts.scratch, m_settings.max_depth,
+                             [&](const GatherPoint& g, float u) {
+                                 // `a` holds the raw filter weight until normalised below.
+                                 ts.points.push_back({g, fs.weight, RGB()});
+                                 ts.uniforms.push_back(u);
+                                 return m_direct.estimate(scene, g, sampler);
+                             });
+        if (!L.is_finite()) {
+            // What the film does with such a sample: drop it, weight and all.
+            ts.points.resize(first);
+            ts.uniforms.resize(first);
+            continue;
+        }
+        known += L * fs.weight;
+        weight_sum += fs.weight;
+    }
+    if (weight_sum == 0) {
+        ts.scratch.reset();
+        return;
+    }
+    float inv_weight = float(1.0 / weight_sum);
+    known *= inv_weight;
+
+    // 2. The gather tree over the pass's gather points, weighted by their share of the pixel.
+    auto t0 = std::chrono::steady_clock::now();
+    ts.positions.clear();
+    ts.weights.clear();
+    for (WeightedGatherPoint& p : ts.points) {
+        p.a *= inv_weight;
+        p.w = p.g.beta * p.a;
+        ts.positions.push_back(p.g.si.p);
+        ts.weights.push_back(p.w);
+    }
+    int spare = ts.tree.build(ts.positions, ts.weights, ts.uniforms);
+    m_gather_tree_ns.fetch_add(uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                            std::chrono::steady_clock::now() - t0)
+                                            .count()),
+                               std::memory_order_relaxed);
+
+    // 3. The product cut, with the light representative drawn from the uniform the gather
+    // tree left.
+    RGB C;
+    int pairs = 0;
+    if (spare >= 0) {
+        int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
+        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion, m_tighten);
+        pairs = int(ts.cut.pairs().size());
+    }
+    ctx.film.add_sample(pixel, known + C, float(weight_sum));
+    ts.scratch.reset();
+
+    // 4. Figures.
+    m_pair_sum.fetch_add(uint64_t(pairs), std::memory_order_relaxed);
+    m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
+    m_gather_points.fetch_add(ts.points.size(), std::memory_order_relaxed);
+    int prev = m_pair_max.load(std::memory_order_relaxed);
+    while (pairs > prev && !m_pair_max.compare_exchange_weak(prev, pairs)) {
+    }
+    size_t i = size_t(pixel.y) * ctx.film.width() + pixel.x;
+    m_pixel_pairs[i] += float(pairs);
+    ++m_pixel_passes_done[i];
+}
+
+std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {
+    double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
+    double pixels = double(ctx.film.width()) * ctx.film.height();
+    double shadow = double(stats::total().shadow);
+    return fmt::format(
+        "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"criterion\": \"{}\", "
+        "\"max_cut\": {}, \"tighten\": {}, \"passes\": {}, "
+        "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"gather_points_per_pixel_pass\": "
+        "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
+        "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
+        "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
+        "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
+        m_samples, m_error, m_criterion == CutCriterion::Max ? "max" : "sum", m_max_cut, m_tighten,
+        passes, double(m_pair_sum.load()) / pixel_passes, m_pair_max.load(),
+        double(m_gather_points.load()) / pixel_passes, shadow / pixels, shadow / pixel_passes,
+        m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni,
+        m_set.oriented, m_set.directional, m_set.light_paths,
+        m_direct.empty() ? "points" : "sample", m_direct.empty() ? 0 : m_direct.samples());
+}
+
+}  // namespace ml

@@ -1,0 +1,62 @@
+// Multidimensional Lightcuts (Walter et al. 2006, seed 003), restricted to the samples of one
+// pixel: the S camera samples of a pixel pass (`mdlightcuts.samples`, default 16) are shaded
+// together by one cut through the product of a gather tree over their gather points and the
+// light tree of `lightcuts`, so a pass costs about as many shadow rays as one single-point cut
+// (product_cut.h). The point-light set, clamping and sampled direct light are `vpl`'s and
+// `lightcuts`' (ManyLightSettings), and the gather points are exactly `vpl`'s at the same sample
+// indices, so the image converges to the brute-force `vpl` image as `mdlightcuts.error` -> 0.
+//
+// The pixel's estimate is the filter-weighted mean of its samples: emission and sampled direct
+// light per sample, plus the cut, in which each gather point weighs its filter weight over the
+// pass's sum, times its throughput. A pass adds that mean to the film with the pass's summed
+// filter weight, which gives the film's filtered mean over all passes (`maxcomponentvalue`
+// then clamps a pass's mean, not each sample). Under --time-limit passes repeat while time is
+// left; --spp N takes ceil(N / S) passes.
+#pragma once
+
+#include <atomic>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "integrators/mdlightcuts/product_cut.h"
+#include "integrators/settings.h"
+#include "integrators/vpl/vpl.h"
+#include "manylight/direct.h"
+#include "manylight/light_tree.h"
+#include "manylight/point_light_set.h"
+
+namespace ml {
+
+class MdLightcutsIntegrator final : public Integrator {
+public:
+    explicit MdLightcutsIntegrator(const Settings& settings);
+    std::string name() const override { return "mdlightcuts"; }
+    RenderResult render(const RenderContext& ctx) override;
+
+private:
+    struct ThreadState;
+    void prepare(const Scene& scene);
+    // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1) added to the film.
+    void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
+                           int pass) const;
+    std::string figures_json(const RenderContext& ctx, int passes) const;
+
+    ManyLightSettings m_settings;
+    int m_samples = 16;
+    float m_error = 0.02f;
+    int m_max_cut = 2000;
+    int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
+    CutCriterion m_criterion = CutCriterion::Max;
+    PointLightSet m_set;
+    SampledDirectLight m_direct;
+    LightTree m_tree;
+    double m_tree_seconds = 0;
+    // Figures: pairs summed over pixel passes, the largest cut, gather points, gather-tree time.
+    mutable std::atomic<uint64_t> m_pair_sum{0}, m_pixel_passes{0}, m_gather_points{0};
+    mutable std::atomic<uint64_t> m_gather_tree_ns{0};
+    mutable std::atomic<int> m_pair_max{0};
+    mutable std::vector<float> m_pixel_pairs;  // each pixel is written by one thread only
+    mutable std::vector<uint32_t> m_pixel_passes_done;
+};
+
+}  // namespace ml
