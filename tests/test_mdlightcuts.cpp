@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "core/rng.h"
-#include "integrators/mdlightcuts/gather_tree.h"
+#include "manylight/gather_tree.h"
 #include "integrators/mdlightcuts/product_cut.h"
 #include "integrators/settings.h"
 #include "render_helpers.h"

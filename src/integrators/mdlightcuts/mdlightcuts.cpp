@@ -9,7 +9,7 @@
 #include <chrono>
 
 #include "core/stats.h"
-#include "integrators/mdlightcuts/gather_tree.h"
+#include "manylight/gather_tree.h"
 #include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather.h"
 

@@ -36,7 +36,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "integrators/mdlightcuts/gather_tree.h"
+#include "manylight/gather_tree.h"
 #include "integrators/vpl/vpl.h"
 #include "manylight/gather.h"
 #include "manylight/light_tree.h"

@@ -1,4 +1,4 @@
-#include "integrators/mdlightcuts/gather_tree.h"
+#include "manylight/gather_tree.h"
 
 #include <algorithm>
 
