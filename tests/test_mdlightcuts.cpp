@@ -8,9 +8,9 @@
 #include <cstdio>
 
 #include "core/rng.h"
-#include "manylight/gather_tree.h"
 #include "integrators/mdlightcuts/product_cut.h"
 #include "integrators/settings.h"
+#include "manylight/gather_tree.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"
@@ -128,7 +128,8 @@ TEST(MdLightcuts, PassesRoundUpAndAverage) {
 // Every pair of a cut, and random pairs of the product graph, against the exact sum it stands
 // for (every member gather point with every light of the node, a shadow ray each): the tight
 // bound (RGB, channel by channel) and the loose one the cut starts a pair with are never below
-// it, and the pair's error bound holds its estimate's error.
+// it, and the pair's error bound holds its estimate's error. A cut stopped at its cap keeps no
+// spike.
 namespace {
 
 void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char* glossy,
@@ -149,7 +150,7 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
     auto sampler = create_sampler("independent", 16, 11);
     ScratchBuffer scratch;
     Rng rng(17);
-    int checked = 0, clustered = 0;
+    int checked = 0, clustered = 0, spikes_checked = 0;
     for (Point2i pixel : pixels) {
         std::vector<WeightedGatherPoint> points;
         std::vector<Vec3> positions;
@@ -185,6 +186,15 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
                             r == gtree.rep(G.children[1], key));
             }
         }
+        // A cut stopped at a small cap keeps no spike: no clustered pair whose estimate alone is
+        // over a quarter of the pixel's.
+        RGB capped_total = cut.refine(points, gtree, 0, RGB(), 0.02f, 8, CutCriterion::Max, 1);
+        for (const ProductPair& p : cut.pairs()) {
+            if (gtree.node(p.gather).is_leaf() && tree.node(p.light).is_leaf()) continue;
+            EXPECT_LE(p.estimate.luminance(), 0.25f * capped_total.luminance() * 1.0001f)
+                << "pixel " << pixel.x << "," << pixel.y;
+            ++spikes_checked;
+        }
         cut.refine(points, gtree, 0, RGB(), 0.02f, 2000, CutCriterion::Max, 1);
         std::vector<ProductPair> pairs = cut.pairs();
         // Random pairs: a random gather node with a light node a random number of levels down.
@@ -216,8 +226,10 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
         }
         scratch.reset();
     }
-    std::printf("%d pairs checked, %d of them clustered\n", checked, clustered);
+    std::printf("%d pairs checked, %d of them clustered; %d pairs of capped cuts\n", checked,
+                clustered, spikes_checked);
     EXPECT_GT(clustered, 100);
+    EXPECT_GT(spikes_checked, 20);
 }
 
 }  // namespace

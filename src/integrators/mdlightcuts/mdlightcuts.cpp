@@ -9,9 +9,9 @@
 #include <chrono>
 
 #include "core/stats.h"
-#include "manylight/gather_tree.h"
 #include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather.h"
+#include "manylight/gather_tree.h"
 
 namespace ml {
 

@@ -233,48 +233,10 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
         m_heap.push_back({p.bound, int32_t(slot)});
         std::push_heap(m_heap.begin(), m_heap.end());
     };
-    for (PointLightKind kind :
-         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
-        int32_t lroot = m_tree.root(kind);
-        if (lroot < 0) continue;
-        int32_t lrep = m_tree.rep(lroot, k);
-        int32_t grep = gtree.rep(groot, uint32_t(lrep));
-        push(make_pair(points, gtree, groot, lroot, grep, lrep, value(points[size_t(grep)], lrep)),
-             m_cut.size());
-    }
-
-    // 2. Refine the pair with the largest bound until every bound is within the error.
-    while (!m_heap.empty() && int(m_cut.size()) < 2 * max_cut) {
-        float top = m_heap.front().bound;
-        float tolerance = error * total.luminance();
-        if (top <= 0.f) break;
-        // At max_cut pairs only a pair whose bound is a large part of the pixel's estimate is
-        // still split (up to twice as many pairs): a rare representative scaled to its whole
-        // cluster makes a spike (an estimate up to ~100x the pair's value), which a cut stopped
-        // at its cap would keep, a firefly in the image. It does not remove them all: on glossy
-        // receivers the loose bounds of many pairs are far above their values (kitchen: 10 to
-        // 14 against 0.04), the cut runs to 2 max_cut in no useful order, and a spike among them
-        // survives (bench/RESULTS.md).
-        if (int(m_cut.size()) >= max_cut && !(top > kSpikeFraction * total.luminance())) break;
-        if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
-        std::pop_heap(m_heap.begin(), m_heap.end());
-        size_t slot = size_t(m_heap.back().slot);
-        m_heap.pop_back();
-        ProductPair p = m_cut[slot];
-        total = total - p.estimate;
-        sums.add(p.bound, -1);
-        if (!p.tight) {
-            // Tighten the bound and look again: the pair may no longer be the worst.
-            p.tight = true;
-            if (gtree.node(p.gather).end - gtree.node(p.gather).begin <= tighten_members) {
-                float b = error_bound(tight_bound(points, gtree, p.gather, p.light), p.estimate);
-                p.bound = std::min(p.bound, b);
-                push(p, slot);
-                continue;
-            }
-        }
-        // 3. Split one node; the child that holds the pair's representative keeps its value
-        // (no new shadow ray): node representatives are always one of their children's.
+    // Splits pair p (taken out of the cut at `slot`) into its two children: one node is split;
+    // the child that holds the pair's representative keeps its value (no new shadow ray): node
+    // representatives are always one of their children's.
+    auto split = [&](const ProductPair& p, size_t slot) {
         bool gather_side = split_gather(gtree, p);
         const int32_t* children =
             gather_side ? gtree.node(p.gather).children : m_tree.node(p.light).children;
@@ -293,6 +255,68 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
                 q = make_pair(points, gtree, p.gather, child, g, r, v);
             }
             push(q, c == 0 ? slot : m_cut.size());
+        }
+    };
+    for (PointLightKind kind :
+         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+        int32_t lroot = m_tree.root(kind);
+        if (lroot < 0) continue;
+        int32_t lrep = m_tree.rep(lroot, k);
+        int32_t grep = gtree.rep(groot, uint32_t(lrep));
+        push(make_pair(points, gtree, groot, lroot, grep, lrep, value(points[size_t(grep)], lrep)),
+             m_cut.size());
+    }
+
+    // 2. Refine the pair with the largest bound until every bound is within the error.
+    while (!m_heap.empty() && int(m_cut.size()) < 2 * max_cut) {
+        float top = m_heap.front().bound;
+        float tolerance = error * total.luminance();
+        if (top <= 0.f) break;
+        // At max_cut pairs only a pair whose bound is a large part of the pixel's estimate is
+        // still split (up to twice as many pairs): a rare representative scaled to its whole
+        // cluster makes a spike (an estimate up to ~100x the pair's value), which a cut stopped
+        // at its cap would keep, a firefly in the image. On glossy receivers the loose bounds of
+        // many pairs are far above their values (kitchen: 10 to 14 against 0.04), the cut runs
+        // to 2 max_cut in no useful order and a spike may survive it: step 4 splits those.
+        if (int(m_cut.size()) >= max_cut && !(top > kSpikeFraction * total.luminance())) break;
+        if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
+        std::pop_heap(m_heap.begin(), m_heap.end());
+        size_t slot = size_t(m_heap.back().slot);
+        m_heap.pop_back();
+        ProductPair p = m_cut[slot];
+        total = total - p.estimate;
+        sums.add(p.bound, -1);
+        if (!p.tight) {
+            // Tighten the bound and look again: the pair may no longer be the worst.
+            p.tight = true;
+            if (gtree.node(p.gather).end - gtree.node(p.gather).begin <= tighten_members) {
+                float b = error_bound(tight_bound(points, gtree, p.gather, p.light), p.estimate);
+                p.bound = std::min(p.bound, b);
+                push(p, slot);
+                continue;
+            }
+        }
+        split(p, slot);
+    }
+    // 4. Spikes left by the cap: a pair whose estimate alone is a large part of the pixel's (a
+    // rare representative scaled to its whole cluster, far above its value on a glossy receiver
+    // whose loose bounds filled the cut) is split until none is, or a budget of splits is spent.
+    // It picks pairs by estimate, not by bound, so the loose bounds of the rest do not hide it.
+    if (int(m_cut.size()) >= max_cut) {
+        for (int budget = 64; budget > 0; --budget) {
+            size_t worst = m_cut.size();
+            float worst_lum = kSpikeFraction * total.luminance();
+            for (size_t i = 0; i < m_cut.size(); ++i) {
+                const ProductPair& p = m_cut[i];
+                bool exact = gtree.node(p.gather).is_leaf() && m_tree.node(p.light).is_leaf();
+                float lum = p.estimate.luminance();
+                if (!exact && lum > worst_lum) worst = i, worst_lum = lum;
+            }
+            if (worst == m_cut.size()) break;
+            ProductPair p = m_cut[worst];
+            total = total - p.estimate;
+            sums.add(p.bound, -1);
+            split(p, worst);
         }
     }
     // Sum the cut afresh: the running total drifts by float cancellation.

@@ -36,9 +36,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "manylight/gather_tree.h"
 #include "integrators/vpl/vpl.h"
 #include "manylight/gather.h"
+#include "manylight/gather_tree.h"
 #include "manylight/light_tree.h"
 #include "manylight/point_light_set.h"
 
