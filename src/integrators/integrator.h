@@ -43,6 +43,12 @@ public:
     virtual RenderResult render(const RenderContext& ctx) = 0;
 };
 
+// The camera ray of one pixel sample, made as every pixel-sampling integrator makes it: a filter
+// sample, the time and the lens position, drawn from the sampler in that order (after
+// start_pixel_sample). Counts the camera ray; *filter_weight receives the filter's weight.
+Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
+                     float* filter_weight);
+
 // Integrators that estimate radiance along camera rays, one pixel sample at a time. Pixels are
 // rendered in tiles in parallel; each pixel's samples are taken in index order by one thread,
 // so the image is the same for any thread count and schedule.

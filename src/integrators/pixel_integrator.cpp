@@ -18,6 +18,18 @@ struct ThreadState {
 
 }  // namespace
 
+Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
+                     float* filter_weight) {
+    FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
+    CameraSample cs;
+    cs.p_film = Vec2(float(pixel.x) + 0.5f + fs.p.x, float(pixel.y) + 0.5f + fs.p.y);
+    cs.time = sampler.get_1d();
+    cs.p_lens = sampler.get_2d();
+    stats::count_camera_ray();
+    *filter_weight = fs.weight;
+    return ctx.camera.generate_ray(cs);
+}
+
 RenderResult PixelIntegrator::render(const RenderContext& ctx) {
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
@@ -47,15 +59,10 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
                         Point2i pixel{x, y};
                         for (int s = s0; s < s1; ++s) {
                             sampler.start_pixel_sample(pixel, s);
-                            FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
-                            CameraSample cs;
-                            cs.p_film = Vec2(x + 0.5f + fs.p.x, y + 0.5f + fs.p.y);
-                            cs.time = sampler.get_1d();
-                            cs.p_lens = sampler.get_2d();
-                            Ray ray = ctx.camera.generate_ray(cs);
-                            stats::count_camera_ray();
+                            float weight;
+                            Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
                             RGB L = li(ray, ctx.scene, sampler, ts.scratch, pixel);
-                            ctx.film.add_sample(pixel, L, fs.weight);
+                            ctx.film.add_sample(pixel, L, weight);
                             ts.scratch.reset();
                         }
                     }
@@ -78,7 +85,9 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
             if (pass_spp < 1) break;
         }
     }
-    return RenderResult{done};
+    RenderResult result;
+    result.spp = done;
+    return result;
 }
 
 }  // namespace ml

@@ -54,14 +54,8 @@ void BdptIntegrator::prepare(const RenderContext& ctx) {
 void BdptIntegrator::render_sample(const RenderContext& ctx, Point2i pixel, int index,
                                    Sampler& sampler, ScratchBuffer& scratch,
                                    SplatList& splats) const {
-    // The camera ray, as PixelIntegrator makes it.
-    FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
-    CameraSample cs;
-    cs.p_film = Vec2(pixel.x + 0.5f + fs.p.x, pixel.y + 0.5f + fs.p.y);
-    cs.time = sampler.get_1d();
-    cs.p_lens = sampler.get_2d();
-    Ray ray = ctx.camera.generate_ray(cs);
-    stats::count_camera_ray();
+    float weight;
+    Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
 
     // Both subpaths, then every strategy of at most maxdepth bounces.
     thread_local std::vector<PathVertex> camera_vertices, light_vertices;
@@ -89,7 +83,7 @@ void BdptIntegrator::render_sample(const RenderContext& ctx, Point2i pixel, int 
                 splats.add(c.splat ? c.p_raster : Vec2(pixel.x + 0.5f, pixel.y + 0.5f), c.L,
                            strategy_index(s, t));
         }
-    ctx.film.add_sample(pixel, L, fs.weight);
+    ctx.film.add_sample(pixel, L, weight);
 }
 
 }  // namespace ml

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 
 #include "core/cone.h"
 #include "core/stats.h"
@@ -34,15 +33,8 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
 }
 
 void LightcutsIntegrator::prepare(const Scene& scene) {
-    m_set = build_point_light_set(scene, m_settings.lights);
-    if (m_settings.lights.sampled_direct)
-        m_direct = SampledDirectLight(scene, m_settings.direct_samples);
-    auto t0 = std::chrono::steady_clock::now();
-    LightTreeOptions opts;
-    opts.seed = m_settings.lights.seed;
-    opts.scene_diagonal = length(scene.bounds().diagonal());
-    m_tree = LightTree(m_set.lights, opts);
-    m_tree_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    build_many_lights(scene, m_settings, &m_set, &m_direct);
+    m_tree = build_light_tree(scene, m_settings, m_set, &m_tree_seconds);
 }
 
 RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {

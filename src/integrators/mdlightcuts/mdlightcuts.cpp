@@ -47,15 +47,8 @@ MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
 }
 
 void MdLightcutsIntegrator::prepare(const Scene& scene) {
-    m_set = build_point_light_set(scene, m_settings.lights);
-    if (m_settings.lights.sampled_direct)
-        m_direct = SampledDirectLight(scene, m_settings.direct_samples);
-    auto t0 = std::chrono::steady_clock::now();
-    LightTreeOptions opts;
-    opts.seed = m_settings.lights.seed;
-    opts.scene_diagonal = length(scene.bounds().diagonal());
-    m_tree = LightTree(m_set.lights, opts);
-    m_tree_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    build_many_lights(scene, m_settings, &m_set, &m_direct);
+    m_tree = build_light_tree(scene, m_settings, m_set, &m_tree_seconds);
 }
 
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
@@ -133,18 +126,13 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     ts.uniforms.clear();
     for (int s = 0; s < m_samples; ++s) {
         sampler.start_pixel_sample(pixel, pass * m_samples + s);
-        FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
-        CameraSample cs;
-        cs.p_film = Vec2(pixel.x + 0.5f + fs.p.x, pixel.y + 0.5f + fs.p.y);
-        cs.time = sampler.get_1d();
-        cs.p_lens = sampler.get_2d();
-        Ray ray = ctx.camera.generate_ray(cs);
-        stats::count_camera_ray();
+        float weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();
         RGB L = gather_along(scene, ray, sampler, ts.scratch, m_settings.max_depth,
                              [&](const GatherPoint& g, float u) {
                                  // `a` holds the raw filter weight until normalised below.
-                                 ts.points.push_back({g, fs.weight, RGB()});
+                                 ts.points.push_back({g, weight, RGB()});
                                  ts.uniforms.push_back(u);
                                  return m_direct.estimate(scene, g, sampler);
                              });
@@ -154,8 +142,8 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
             ts.uniforms.resize(first);
             continue;
         }
-        known += L * fs.weight;
-        weight_sum += fs.weight;
+        known += L * weight;
+        weight_sum += weight;
     }
     if (weight_sum == 0) {
         ts.scratch.reset();

@@ -1,5 +1,7 @@
 #include "integrators/vpl/vpl.h"
 
+#include <chrono>
+
 #include "manylight/gather.h"
 
 namespace ml {
@@ -43,10 +45,26 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
 VplIntegrator::VplIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {}
 
+void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
+                       SampledDirectLight* direct) {
+    *set = build_point_light_set(scene, settings.lights);
+    *direct = settings.lights.sampled_direct ? SampledDirectLight(scene, settings.direct_samples)
+                                             : SampledDirectLight();
+}
+
+LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
+                           const PointLightSet& set, double* seconds) {
+    auto t0 = std::chrono::steady_clock::now();
+    LightTreeOptions opts;
+    opts.seed = settings.lights.seed;
+    opts.scene_diagonal = length(scene.bounds().diagonal());
+    LightTree tree(set.lights, opts);
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return tree;
+}
+
 void VplIntegrator::prepare(const Scene& scene) {
-    m_set = build_point_light_set(scene, m_settings.lights);
-    if (m_settings.lights.sampled_direct)
-        m_direct = SampledDirectLight(scene, m_settings.direct_samples);
+    build_many_lights(scene, m_settings, &m_set, &m_direct);
 }
 
 RenderResult VplIntegrator::render(const RenderContext& ctx) {

@@ -6,6 +6,7 @@
 #include "integrators/integrator.h"
 #include "integrators/settings.h"
 #include "manylight/direct.h"
+#include "manylight/light_tree.h"
 #include "manylight/point_light_set.h"
 
 namespace ml {
@@ -25,6 +26,15 @@ struct ManyLightSettings {
         return RGB(std::min(c.r, clamp), std::min(c.g, clamp), std::min(c.b, clamp));
     }
 };
+
+// What `vpl`, `lightcuts` and `mdlightcuts` shade with: the point-light set and, with
+// lights.direct=sample, the sampled direct light.
+void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
+                       SampledDirectLight* direct);
+// The light tree over `set` as `lightcuts` and `mdlightcuts` build it (representatives seeded by
+// lights.seed, the cone weight from the scene's size); *seconds receives the build time.
+LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
+                           const PointLightSet& set, double* seconds);
 
 class VplIntegrator final : public PixelIntegrator {
 public:
