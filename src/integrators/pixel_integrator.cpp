@@ -30,6 +30,12 @@ Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
     return ctx.camera.generate_ray(cs);
 }
 
+int next_round_size(int last_units, double last_seconds, double elapsed, double time_limit) {
+    double per_unit = std::max(last_seconds / std::max(last_units, 1), 1e-9);
+    double left = time_limit - elapsed;
+    return int(std::max(0.0, std::min(4.0 * last_units, 0.95 * left / per_unit)));
+}
+
 RenderResult PixelIntegrator::render(const RenderContext& ctx) {
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
@@ -77,11 +83,7 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
             });
         done = s1;
         if (ctx.time_limit > 0) {
-            // Size the next pass to fill what is left of the time (at most 4x the last pass,
-            // so the estimate of the cost of a sample stays fresh).
-            double per_spp = (elapsed() - pass_start) / (s1 - s0);
-            double left = ctx.time_limit - elapsed();
-            pass_spp = int(std::min(4.0 * (s1 - s0), 0.95 * left / std::max(per_spp, 1e-9)));
+            pass_spp = next_round_size(s1 - s0, elapsed() - pass_start, elapsed(), ctx.time_limit);
             if (pass_spp < 1) break;
         }
     }

@@ -92,9 +92,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
             });
         done = p1;
         if (ctx.time_limit > 0) {
-            double per_pass = (elapsed() - round_start) / (p1 - p0);
-            double left = ctx.time_limit - elapsed();
-            round = int(std::min(4.0 * (p1 - p0), 0.95 * left / std::max(per_pass, 1e-9)));
+            round = next_round_size(p1 - p0, elapsed() - round_start, elapsed(), ctx.time_limit);
             if (round < 1) break;
         }
     }
