@@ -77,14 +77,30 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
     int32_t expected = vpls == count ? int32_t(count) : (node.is_leaf() ? 0 : -1);
     EXPECT_EQ(node.clampable, expected) << "node " << n;
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(node.intensity[c], total[c], 1e-4 * total[c] + 1e-6);
+    // Glossy: bin by bin, the node's falloff times its intensity holds the sum of its lights'
+    // (what the bound relies on); other kinds have none.
+    for (int k = 0; k < kFalloffBins; ++k) {
+        if (node.kind != PointLightKind::Glossy) {
+            EXPECT_EQ(node.falloff[k], 0);
+            continue;
+        }
+        for (int c = 0; c < 3; ++c) {
+            double sum = 0;
+            for (size_t j = first; j < leaves->size(); ++j) {
+                const PointLight& pl = lights[size_t((*leaves)[j])];
+                sum += double(pl.intensity[c]) * falloff_value(pl.falloff[k]);
+            }
+            EXPECT_GE(double(node.intensity[c]) * falloff_value(node.falloff[k]), sum * (1 - 1e-5))
+                << "node " << n << " bin " << k;
+        }
+    }
 }
 
 void check_tree(const std::vector<PointLight>& lights, const LightTree& tree) {
     std::vector<int> seen(lights.size(), 0);
-    size_t counts[3] = {0, 0, 0};
+    size_t counts[kPointLightKinds] = {};
     for (const PointLight& pl : lights) counts[int(pl.kind)]++;
-    for (PointLightKind kind :
-         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+    for (PointLightKind kind : kAllPointLightKinds) {
         int32_t root = tree.root(kind);
         if (counts[int(kind)] == 0) {
             EXPECT_EQ(root, -1);
@@ -97,15 +113,15 @@ void check_tree(const std::vector<PointLight>& lights, const LightTree& tree) {
         EXPECT_EQ(leaves.size(), counts[int(kind)]);
     }
     for (size_t i = 0; i < lights.size(); ++i) EXPECT_EQ(seen[i], 1) << "light " << i;
-    EXPECT_EQ(tree.node_count(),
-              2 * lights.size() - (counts[0] > 0) - (counts[1] > 0) - (counts[2] > 0));
+    EXPECT_EQ(tree.node_count(), 2 * lights.size() - (counts[0] > 0) - (counts[1] > 0) -
+                                     (counts[2] > 0) - (counts[3] > 0));
 }
 
 }  // namespace
 
 TEST(LightTree, EmptyAndSingle) {
     LightTree empty(std::vector<PointLight>{});
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(empty.root(PointLightKind(k)), -1);
+    for (PointLightKind kind : kAllPointLightKinds) EXPECT_EQ(empty.root(kind), -1);
     std::vector<PointLight> one = random_lights(1, LightMix::Oriented, 3);
     LightTree t(one);
     int32_t r = t.root(PointLightKind::Oriented);
@@ -115,8 +131,8 @@ TEST(LightTree, EmptyAndSingle) {
 }
 
 TEST(LightTree, InvariantsEachKind) {
-    for (LightMix mix :
-         {LightMix::Omni, LightMix::Oriented, LightMix::Directional, LightMix::Mixed}) {
+    for (LightMix mix : {LightMix::Omni, LightMix::Oriented, LightMix::Directional, LightMix::Mixed,
+                         LightMix::Glossy}) {
         for (size_t n : {2, 3, 17, 100, 1000, 5000}) {
             std::vector<PointLight> lights = random_lights(n, mix, 100 + n);
             LightTree tree(lights);

@@ -326,18 +326,34 @@ TEST(Vpl, IntensityWithinBound) {
     auto scene = make_scene(mixed_box());
     PointLightSet set = vpls_only(*scene, 20000, 5, 5);
     EXPECT_GE(set.vpls, 20000u);
-    EXPECT_EQ(set.oriented + set.omni, set.vpls);
+    EXPECT_EQ(set.oriented + set.omni + set.glossy, set.vpls);
     EXPECT_GT(set.surfaces.size(), 0u);
     auto sampler = create_sampler("independent", 1, 9);
-    size_t violations = 0, checked = 0, omni = 0;
+    size_t violations = 0, checked = 0, omni = 0, glossy = 0, sharp = 0;
     for (size_t i = 0; i < set.lights.size(); ++i) {
         const PointLight& pl = set.lights[i];
         if (pl.kind == PointLightKind::Omni) ++omni;
+        if (pl.kind == PointLightKind::Glossy) {
+            ++glossy;
+            sharp += falloff_value(pl.falloff[kFalloffBins - 1]) < 0.05f;
+        }
         sampler->start_pixel_sample({int(i), 0}, 0);
-        for (int j = 0; j < 64; ++j) {
+        for (int j = 0; j < 96; ++j) {
             Vec3 w = sample_uniform_sphere(sampler->get_2d());
+            if (pl.kind == PointLightKind::Glossy && j % 2) {
+                // Glossy lobes are narrow: half the directions within 30 degrees of the axis.
+                Vec2 u = sampler->get_2d();
+                float cos_t = 1 - u.x * (1 - std::cos(0.52f)), sin_t = safe_sqrt(1 - cos_t * cos_t);
+                Frame f = Frame::from_z(pl.n);
+                w = f.to_world(
+                    {sin_t * std::cos(2 * kPi * u.y), sin_t * std::sin(2 * kPi * u.y), cos_t});
+            }
             RGB I = point_light_intensity(set, pl, w);
-            float cos_w = pl.kind == PointLightKind::Oriented ? std::max(0.f, dot(pl.n, w)) : 1.f;
+            // Oriented: the cosine lobe; glossy: the falloff away from the axis.
+            float cos_w = pl.kind == PointLightKind::Oriented ? std::max(0.f, dot(pl.n, w))
+                          : pl.kind == PointLightKind::Glossy
+                              ? falloff_bound(pl.falloff, dot(pl.n, w))
+                              : 1.f;
             for (int c = 0; c < 3; ++c) {
                 ASSERT_TRUE(std::isfinite(I[c]) && I[c] >= 0) << "VPL " << i;
                 if (I[c] > pl.intensity[c] * cos_w * (1 + 1e-4f) + 1e-12f) {
@@ -353,7 +369,24 @@ TEST(Vpl, IntensityWithinBound) {
         }
     }
     EXPECT_GT(omni, 0u) << "the dielectric pane holds omni VPLs";
+    EXPECT_GT(glossy, 1000u) << "the conductor floor and the coated wall hold glossy VPLs";
+    EXPECT_GT(sharp, glossy / 4) << "the falloff bounds the conductor's lobes well below the peak";
     EXPECT_EQ(violations, 0u) << "of " << checked;
+}
+
+// A glossy light's falloff is stored rounded up: never below the value it stands for, and less
+// than one step (2^(1/16)) above it.
+TEST(Vpl, FalloffQuantizedUpward) {
+    EXPECT_EQ(quantize_falloff(1.f), 0);
+    EXPECT_EQ(quantize_falloff(2.f), 0);
+    EXPECT_EQ(quantize_falloff(0.f), 255);
+    for (int i = 0; i < 10000; ++i) {
+        float t = std::exp2(-16.f * float(i) / 10000);
+        uint8_t q = quantize_falloff(t);
+        ASSERT_GE(falloff_value(q), t) << t;
+        ASSERT_LE(falloff_value(q), t * std::exp2(1.f / 16) * 1.0001f) << t;
+    }
+    for (int k = 1; k < kFalloffBins; ++k) EXPECT_LT(kFalloffCos[k], kFalloffCos[k - 1]);
 }
 
 TEST(Vpl, GlossySkipLeavesNoneOnConductor) {

@@ -1,6 +1,7 @@
 // Random point-light sets for the light tree and bound tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -9,7 +10,9 @@
 
 namespace ml::tree_test {
 
-enum class LightMix { Omni, Oriented, Directional, Mixed };
+// Glossy: lights of that kind with random falloff tables and no surface (for the tree alone:
+// point_light_intensity needs a surface to evaluate them). Mixed: omni, oriented, directional.
+enum class LightMix { Omni, Oriented, Directional, Mixed, Glossy };
 
 inline Vec3 random_unit(Rng& rng) {
     float z = 1 - 2 * rng.next_float();
@@ -57,6 +60,12 @@ inline std::vector<PointLight> random_lights(size_t n, LightMix mix, uint64_t se
                 break;
             case LightMix::Mixed:
                 pl.kind = PointLightKind(rng.next_u32() % 3);
+                break;
+            case LightMix::Glossy:
+                pl.kind = PointLightKind::Glossy;
+                for (int k = 1; k < kFalloffBins; ++k)
+                    pl.falloff[k] =
+                        uint8_t(std::min(255u, pl.falloff[k - 1] + rng.next_u32() % 40));
                 break;
         }
         if (pl.kind == PointLightKind::Omni && rng.next_float() < 0.3f) {

@@ -75,6 +75,13 @@ float geometric_bound(const LightTreeNode& node, const Vec3& x) {
     if (!(d2 > 0)) return kInfinity;
     float falloff = 1 / d2;
     if (node.kind == PointLightKind::Omni) return falloff;
+    if (node.kind == PointLightKind::Glossy) {
+        // The smallest angle between a lobe axis and a direction from the box to x picks the
+        // falloff bin (cos_of_difference stops at a right angle: the bins end below it).
+        float c = cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
+                                    node.cone.cos_theta);
+        return falloff_bound(node.falloff, c) * falloff;
+    }
     // Oriented: the emitter's cosine between a normal of the cone and a direction from a point
     // of the box to x. Those directions lie in the reversed cone subtended by the box at x, so
     // the angle is at least angle(axis, x - c) - theta_normals - theta_box.

@@ -109,9 +109,7 @@ LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptio
     // A binary tree over n leaves has 2n - 1 nodes: reserve them all so that no build step
     // reallocates under parallel writers.
     m_nodes.reserve(2 * lights.size());
-    for (PointLightKind kind :
-         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional})
-        build_kind(lights, kind, opts);
+    for (PointLightKind kind : kAllPointLightKinds) build_kind(lights, kind, opts);
     order_depth_first();
 }
 
@@ -173,7 +171,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     float c = 0;
     // Walter et al. weigh the cone's angle by half the scene's size (seed 004: "half the
     // scene's bbox"); a full diagonal mixes orientations less and makes kitchen cuts 3% larger.
-    if (kind == PointLightKind::Oriented)
+    if (kind == PointLightKind::Oriented || kind == PointLightKind::Glossy)
         c = 0.5f * (opts.scene_diagonal > 0 ? opts.scene_diagonal : length(all.diagonal()));
     if (directional) c = 1;
 
@@ -187,7 +185,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
                      : Vec3(unit(pl.p.x, all.lo.x, extent.x), unit(pl.p.y, all.lo.y, extent.y),
                             unit(pl.p.z, all.lo.z, extent.z));
         uint64_t code = morton_code(u);
-        if (kind == PointLightKind::Oriented) {
+        if (kind == PointLightKind::Oriented || kind == PointLightKind::Glossy) {
             // Lights facing different ways rarely belong together (the metric's orientation
             // term, with c the scene's diagonal, outweighs distance), but Morton order by
             // position alone puts a corner's two walls side by side. Leading bits for the
@@ -207,6 +205,8 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     m_reps.resize(m_nodes.size() * kLightTreeReps);
     Clusters cl;
     cl.resize(n);
+    // Glossy lights' falloffs while building, unrounded, per node of this kind (from base).
+    std::vector<float> falloff(kind == PointLightKind::Glossy ? 2 * n * kFalloffBins : 0);
     tbb::parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(keys[k].second)];
         LightTreeNode& node = m_nodes[base + k];
@@ -216,6 +216,9 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
                     node.light);
         node.intensity = pl.intensity;
         node.clampable = pl.is_vpl ? 1 : 0;
+        if (kind == PointLightKind::Glossy)
+            for (int j = 0; j < kFalloffBins; ++j)
+                falloff[k * kFalloffBins + size_t(j)] = falloff_value(pl.falloff[j]);
         if (!directional) node.bounds.expand(pl.p);
         node.cone = has_cone ? DirectionCone(normalize(pl.n)) : DirectionCone::entire_sphere();
         cl.node[k] = int32_t(base + k);
@@ -299,6 +302,22 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             node.bounds = na.bounds;
             node.bounds.expand(nb.bounds);
             node.cone = has_cone ? union_cones(na.cone, nb.cone) : DirectionCone::entire_sphere();
+            if (kind == PointLightKind::Glossy) {
+                // Bin by bin, what the lights send is at most sum_i I_i t_i = I s: s is the
+                // intensity-weighted mean of the children's (channel by channel, the largest).
+                const float* fa = &falloff[(size_t(a) - base) * kFalloffBins];
+                const float* fb = &falloff[(size_t(b) - base) * kFalloffBins];
+                float* f = &falloff[(id - base) * kFalloffBins];
+                for (int j = 0; j < kFalloffBins; ++j) {
+                    float s = 0;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        float ia = std::max(0.f, na.intensity[ch]),
+                              ib = std::max(0.f, nb.intensity[ch]);
+                        if (ia + ib > 0) s = std::max(s, (ia * fa[j] + ib * fb[j]) / (ia + ib));
+                    }
+                    f[j] = std::min(1.f, s);
+                }
+            }
             // Representative: a child's, with probability proportional to its luminance.
             float la = std::max(0.f, na.intensity.luminance());
             float lb = std::max(0.f, nb.intensity.luminance());
@@ -317,6 +336,13 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         });
         std::swap(cl, next);
     }
+    // Rounded up once (and a little more, for the float sums), each node on its own.
+    if (kind == PointLightKind::Glossy)
+        tbb::parallel_for(base, m_nodes.size(), [&](size_t id) {
+            for (int j = 0; j < kFalloffBins; ++j)
+                m_nodes[id].falloff[j] =
+                    quantize_falloff(falloff[(id - base) * kFalloffBins + size_t(j)] * (1 + 1e-5f));
+        });
     m_roots[int(kind)] = cl.node[0];
 }
 

@@ -1,7 +1,7 @@
 // The Lightcuts light tree (Walter et al. 2005): one binary tree per kind of point light (omni,
-// oriented, directional) over the indices of a light vector. Every node is a cluster of lights
-// with a representative light, the summed RGB intensity, the bounding box of the positions and
-// the bounding cone of directions; the lightcuts integrator walks a cut through it using the
+// oriented, directional, glossy) over the indices of a light vector. Every node is a cluster of
+// lights with a representative light, the summed RGB intensity, the bounding box of the positions
+// and the bounding cone of directions; the lightcuts integrator walks a cut through it using the
 // error bounds of manylight/bounds.h.
 //
 // Built bottom-up by Parallel Locally-Ordered Clustering (Meister & Bittner 2018) under the
@@ -25,9 +25,10 @@ namespace ml {
 constexpr int kLightTreeReps = 8;
 
 struct LightTreeNode {
-    Bounds3 bounds;      // positions of the node's lights (directional lights: unused, empty)
-    DirectionCone cone;  // oriented: lobe axes; directional: travel directions; omni: the sphere
-    RGB intensity;       // sum of the lights' intensities
+    Bounds3 bounds;  // positions of the node's lights (directional lights: unused, empty)
+    DirectionCone
+        cone;       // oriented, glossy: lobe axes; directional: travel directions; omni: the sphere
+    RGB intensity;  // sum of the lights' intensities
     int32_t children[2] = {-1, -1};  // node indices; both -1 for a leaf
     int32_t light = -1;  // the representative light (a leaf: its light), index into the lights
     PointLightKind kind = PointLightKind::Omni;
@@ -35,7 +36,8 @@ struct LightTreeNode {
     // (so the node's is at most this many times the clamp); 0 for a leaf that is not a VPL, -1
     // for a cluster with one.
     int32_t clampable = 0;
-    int32_t reps[kLightTreeReps] = {};  // representatives per sample (reps[0] == light)
+    int32_t reps[kLightTreeReps] = {};   // representatives per sample (reps[0] == light)
+    uint8_t falloff[kFalloffBins] = {};  // glossy: the largest falloff of its lights, bin by bin
 
     bool is_leaf() const { return children[0] < 0; }
 };
@@ -69,7 +71,7 @@ private:
 
     std::vector<LightTreeNode> m_nodes;
     std::vector<int32_t> m_reps;  // kLightTreeReps per node while building (then in the nodes)
-    int32_t m_roots[3] = {-1, -1, -1};
+    int32_t m_roots[kPointLightKinds] = {-1, -1, -1, -1};
     size_t m_light_count = 0;
 };
 

@@ -1,8 +1,10 @@
 // Point lights: what every light becomes for the many-light integrators (DESIGN.md section 1).
 // Area lights are sampled into oriented lights, environment maps and distant lights into
 // directional lights, point lights stay omni, spot lights are omni lights with a cone, and
-// virtual point lights (VPLs) deposited by light paths are oriented lights (diffuse surfaces) or
-// re-emit through their surface's BSDF (glossy surfaces).
+// virtual point lights (VPLs) deposited by light paths are oriented lights (diffuse surfaces),
+// glossy lights (reflecting glossy surfaces: a lobe about the mirror direction, bounded by how it
+// falls off away from it) or omni lights (surfaces that transmit), the last two re-emitting
+// through their surface's BSDF.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +22,31 @@ enum class PointLightKind : uint8_t {
     Omni,         // intensity in every direction (spot lights: within their cone)
     Oriented,     // intensity * max(0, cos(n, w)): a cosine lobe about n
     Directional,  // parallel light travelling along n; intensity is the irradiance it gives
+    // A glossy VPL: intensity * falloff(angle between n and w) bounds what it sends towards w,
+    // n being the mirror direction of the light's arrival, where a reflection lobe peaks.
+    Glossy,
 };
+constexpr int kPointLightKinds = 4;
+constexpr PointLightKind kAllPointLightKinds[kPointLightKinds] = {
+    PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional,
+    PointLightKind::Glossy};
+
+// A glossy light's falloff: bin k bounds, relative to the intensity (channel by channel), what
+// the light sends in the directions at least kFalloffAngles[k] from its axis. Stored as q, for
+// the value 2^(-q / 16) (q = 0: 1), rounded so that the stored value is never below the bound.
+// A cluster keeps, bin by bin, the largest value (smallest q) of its lights.
+constexpr int kFalloffBins = 8;
+// cos of the bins' angles: 0, 3, 6, 12, 20, 35, 55 and 80 degrees.
+extern const float kFalloffCos[kFalloffBins];
+float falloff_value(uint8_t q);
+uint8_t quantize_falloff(float t);
+// The falloff towards directions at least acos(cos_angle) from the axis: the value of the last
+// bin whose angle does not exceed that.
+inline float falloff_bound(const uint8_t* q, float cos_angle) {
+    int k = 0;
+    while (k + 1 < kFalloffBins && kFalloffCos[k + 1] >= cos_angle) ++k;
+    return falloff_value(q[k]);
+}
 
 // What becomes of light paths at glossy surfaces (vpl.glossy): a VPL that re-emits through the
 // whole BSDF, one that keeps only its diffuse part (Bxdf::eval_diffuse; none on a surface with
@@ -41,6 +67,7 @@ struct PointLight {
     // -1: the cosine lobe (or omni/directional as above).
     int32_t surface = -1;
     bool is_vpl = false;
+    uint8_t falloff[kFalloffBins] = {};  // glossy lights (see kFalloffBins); 0: no falloff
 };
 
 // The surface of a glossy VPL: its BSDF (with the Bxdf kept alive by the set's arenas), the
@@ -56,10 +83,10 @@ struct PointLightSet {
     std::vector<PointLight> lights;  // emitters' point lights first, then the VPLs
     std::vector<VplSurface> surfaces;
     std::vector<std::unique_ptr<ScratchBuffer>> arenas;  // the VPL surfaces' Bxdfs live here
-    size_t omni = 0, oriented = 0, directional = 0;      // counts by kind
-    size_t vpls = 0;                                     // how many of the lights are VPLs
-    size_t light_paths = 0;                              // light paths traced for the VPLs
-    double seconds = 0;                                  // time to build the set
+    size_t omni = 0, oriented = 0, directional = 0, glossy = 0;  // counts by kind
+    size_t vpls = 0;                                             // how many of the lights are VPLs
+    size_t light_paths = 0;                                      // light paths traced for the VPLs
+    double seconds = 0;                                          // time to build the set
 };
 
 // Intensity of `pl` leaving towards unit direction `w` (from the light; ignored for

@@ -68,6 +68,9 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
             case PointLightKind::Directional:
                 ++set.directional;
                 break;
+            case PointLightKind::Glossy:
+                ++set.glossy;
+                break;
         }
     }
     set.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -135,6 +135,13 @@ private:
         // Oriented lights are bounded by intensity * cos, so they need a bound of f alone;
         // omni lights (both sides) a bound of f |cos|.
         bool diffuse_only = m_options.glossy == GlossyVpls::Diffuse && (flags & kBxdfGlossy);
+        if ((flags & kBxdfGlossy) && !transmits && !diffuse_only &&
+            make_glossy(kept, wi, beta, &pl)) {
+            pl.surface = int32_t(chunk.surfaces.size());
+            chunk.surfaces.push_back(VplSurface{kept, wi, beta, false});
+            chunk.lights.push_back(pl);
+            return;
+        }
         pl.kind = transmits ? PointLightKind::Omni : PointLightKind::Oriented;
         std::optional<RGB> exact_max;
         if (diffuse_only && !transmits)
@@ -146,6 +153,30 @@ private:
         pl.surface = int32_t(chunk.surfaces.size());
         chunk.surfaces.push_back(VplSurface{kept, wi, beta, diffuse_only});
         chunk.lights.push_back(pl);
+    }
+
+    // A glossy reflector's VPL, bounded by the Bxdf's own bounds: what it sends towards w is
+    // flux f(w, wi) |cos(n, w)| = flux f(wi, w) |cos(n, w)| (reciprocity), which
+    // max_value_bound(wi, C) bounds over any cone C of w. Over every direction that gives the
+    // intensity; over the directions at least a bin's angle from the mirror direction (a cone
+    // about its reverse), the falloff. False where the Bxdf has no finite bound.
+    static bool make_glossy(const Bsdf& bsdf, const Vec3& wi, const RGB& beta, PointLight* pl) {
+        RGB peak = bsdf.max_value_bound(wi, DirectionCone::entire_sphere());
+        if (!peak.is_finite() || peak.is_black()) return false;
+        const Vec3& n = pl->n;  // on wi's side
+        Vec3 axis = normalize(n * (2 * dot(wi, n)) - wi);
+        pl->kind = PointLightKind::Glossy;
+        pl->n = axis;
+        pl->intensity = beta * peak;
+        pl->falloff[0] = 0;
+        for (int k = 1; k < kFalloffBins; ++k) {
+            RGB b = bsdf.max_value_bound(wi, DirectionCone(-axis, -kFalloffCos[k]));
+            float t = 0;
+            for (int c = 0; c < 3; ++c)
+                if (peak[c] > 0) t = std::max(t, b[c] / peak[c]);
+            pl->falloff[k] = quantize_falloff(t);
+        }
+        return !pl->intensity.is_black();
     }
 
     const Scene& m_scene;

@@ -69,9 +69,10 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
         "\"max_cut_size\": {}, \"gather_points\": {}, \"shadow_rays_per_pixel\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
+        "\"glossy\": {}, "
         "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}{}}}",
         m_error, criterion_name(), m_reps, m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
-        m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional,
+        m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.glossy,
         m_set.light_paths, m_direct.empty() ? "points" : "sample",
         m_direct.empty() ? 0 : m_direct.samples(), verify);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
@@ -104,16 +105,20 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
         });
 }
 
-RGB LightcutsIntegrator::capped(const RGB& bound, const LightTreeNode& n,
-                                const RGB& estimate) const {
-    if (!(m_settings.clamp > 0) || n.clampable <= 0) return bound;
+RGB LightcutsIntegrator::error_bound(const RGB& bound, const LightTreeNode& n,
+                                     const RGB& estimate) const {
+    // The error of two non-negative values is at most the larger: the estimate may exceed a
+    // bound of the cluster's sum (a glossy cluster's falloff is its lights' intensity-weighted
+    // mean, while the estimate scales its representative's by the cluster's intensity).
+    RGB out;
+    if (!(m_settings.clamp > 0) || n.clampable <= 0) {
+        for (int c = 0; c < 3; ++c) out[c] = std::max(bound[c], estimate[c]);
+        return out;
+    }
     // Each of the node's VPLs gives at most the clamp (per channel), so the node at most
     // clampable times it: finite even where the 1/d^2 bound is not (x inside the node's box).
-    // The estimate (the representative's clamped value scaled by intensity) may exceed that,
-    // and the error of two non-negative values is at most the larger.
     float cap = float(n.clampable) * m_settings.clamp;
-    RGB out;
-    for (int c = 0; c < 3; ++c) out[c] = std::min(bound[c], std::max(cap, estimate[c]));
+    for (int c = 0; c < 3; ++c) out[c] = std::max(std::min(bound[c], cap), estimate[c]);
     return out;
 }
 
@@ -141,11 +146,11 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
             b[c] = (gb == 0 || m_all[c] == 0 || n.intensity[c] == 0)
                        ? 0.f
                        : m_all[c] * gb * n.intensity[c];
-        float l = capped(g.beta * b, n, estimate).luminance();
+        float l = error_bound(g.beta * b, n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
     auto tight_bound = [&](const LightTreeNode& n, const RGB& estimate) {
-        float l = capped(g.beta * node_error_bound(n, x, g.bsdf, wo), n, estimate).luminance();
+        float l = error_bound(g.beta * node_error_bound(n, x, g.bsdf, wo), n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
     // A node stands for its cluster: the representative's value scaled, channel by channel, by
@@ -173,8 +178,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     // Over the clustered (non-leaf) nodes of the cut: the sum of their bounds and of their
     // squares.
     float bound_sum = 0, bound_sq = 0;
-    for (PointLightKind kind :
-         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+    for (PointLightKind kind : kAllPointLightKinds) {
         int32_t root = m_tree.root(kind);
         if (root < 0) continue;
         int32_t rep = m_tree.rep(root, k);
@@ -264,7 +268,8 @@ void LightcutsIntegrator::verify_cut(const Scene& scene, const GatherPoint& g,
             if (!scene.occluded(shadow)) exact += c;
         }
         exact_total += exact;
-        RGB bound = capped(g.beta * node_error_bound(n, g.si.p, g.bsdf, g.si.wo), n, e.estimate);
+        RGB bound =
+            error_bound(g.beta * node_error_bound(n, g.si.p, g.bsdf, g.si.wo), n, e.estimate);
         ++nodes;
         for (int c = 0; c < 3; ++c)
             if (std::abs(e.estimate[c] - exact[c]) > bound[c] * 1.0001f + 1e-12f) {

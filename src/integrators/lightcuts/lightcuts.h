@@ -54,10 +54,10 @@ private:
     // counts in the estimate the error threshold is relative to.
     RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
               const RGB& known = RGB()) const;
-    // A node's error bound (RGB, times the gather point's throughput) capped by VPL clamping:
-    // with vpl.clamp > 0, a node of n VPLs contributes at most n times the clamp per channel,
-    // so its error is at most the larger of that and its estimate.
-    RGB capped(const RGB& bound, const LightTreeNode& n, const RGB& estimate) const;
+    // A node's error bound (RGB, times the gather point's throughput) from a bound of its
+    // lights' sum: at most the larger of that and the estimate. With vpl.clamp > 0 the sum is
+    // also at most n times the clamp per channel, for a node of n VPLs.
+    RGB error_bound(const RGB& bound, const LightTreeNode& n, const RGB& estimate) const;
     // `lightcuts.verify`: every clustered node of the cut just made against the exact sum over
     // its lights (a shadow ray each): counts nodes whose error exceeds their bound.
     void verify_cut(const Scene& scene, const GatherPoint& g, const std::vector<CutEntry>& cut,

@@ -201,12 +201,13 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
         "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
+        "\"glossy\": {}, "
         "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
         m_samples, m_error, m_criterion == CutCriterion::Max ? "max" : "sum", m_max_cut, m_tighten,
         passes, double(m_pair_sum.load()) / pixel_passes, m_pair_max.load(),
         double(m_gather_points.load()) / pixel_passes, shadow / pixels, shadow / pixel_passes,
         m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni,
-        m_set.oriented, m_set.directional, m_set.light_paths,
+        m_set.oriented, m_set.directional, m_set.glossy, m_set.light_paths,
         m_direct.empty() ? "points" : "sample", m_direct.empty() ? 0 : m_direct.samples());
 }
 

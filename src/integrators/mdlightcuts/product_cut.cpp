@@ -257,8 +257,7 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
             push(q, c == 0 ? slot : m_cut.size());
         }
     };
-    for (PointLightKind kind :
-         {PointLightKind::Omni, PointLightKind::Oriented, PointLightKind::Directional}) {
+    for (PointLightKind kind : kAllPointLightKinds) {
         int32_t lroot = m_tree.root(kind);
         if (lroot < 0) continue;
         int32_t lrep = m_tree.rep(lroot, k);
