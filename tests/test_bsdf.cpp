@@ -324,6 +324,24 @@ TEST(BsdfReciprocity, ReflectionIsSymmetric) {
     }
 }
 
+// The conductor's reflectance in real arithmetic against the complex formulas (Fresnel's
+// equations with the complex IOR eta + i k), over metals' range and beyond.
+TEST(BsdfFresnel, ConductorMatchesComplexFormulas) {
+    using C = std::complex<double>;
+    Rng rng(17);
+    for (int i = 0; i < 20000; ++i) {
+        double eta_re = 0.05 + 4 * rng.next_float(), k = 8 * rng.next_float();
+        double cos_i = i % 50 == 0 ? 0.0 : (i % 50 == 1 ? 1.0 : rng.next_float());
+        C eta(eta_re, k);
+        C cos_t = std::sqrt(1.0 - (1 - cos_i * cos_i) / (eta * eta));
+        C r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+        C r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+        double expected = 0.5 * (std::norm(r_parl) + std::norm(r_perp));
+        ASSERT_NEAR(fr_complex(float(cos_i), float(eta_re), float(k)), expected, 2e-5)
+            << "cos " << cos_i << " eta " << eta_re << " k " << k;
+    }
+}
+
 TEST(BsdfFresnel, Limits) {
     EXPECT_NEAR(fr_dielectric(1, 1.5f), 0.04f, 1e-4f);
     EXPECT_EQ(fr_dielectric(-0.2f, 1.5f), 1.f);  // total internal reflection from inside

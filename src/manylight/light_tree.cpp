@@ -205,8 +205,6 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     m_reps.resize(m_nodes.size() * kLightTreeReps);
     Clusters cl;
     cl.resize(n);
-    // Glossy lights' falloffs while building, unrounded, per node of this kind (from base).
-    std::vector<float> falloff(kind == PointLightKind::Glossy ? 2 * n * kFalloffBins : 0);
     tbb::parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(keys[k].second)];
         LightTreeNode& node = m_nodes[base + k];
@@ -216,9 +214,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
                     node.light);
         node.intensity = pl.intensity;
         node.clampable = pl.is_vpl ? 1 : 0;
-        if (kind == PointLightKind::Glossy)
-            for (int j = 0; j < kFalloffBins; ++j)
-                falloff[k * kFalloffBins + size_t(j)] = falloff_value(pl.falloff[j]);
+        std::copy_n(pl.falloff, kFalloffBins, node.falloff);
         if (!directional) node.bounds.expand(pl.p);
         node.cone = has_cone ? DirectionCone(normalize(pl.n)) : DirectionCone::entire_sphere();
         cl.node[k] = int32_t(base + k);
@@ -302,22 +298,10 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             node.bounds = na.bounds;
             node.bounds.expand(nb.bounds);
             node.cone = has_cone ? union_cones(na.cone, nb.cone) : DirectionCone::entire_sphere();
-            if (kind == PointLightKind::Glossy) {
-                // Bin by bin, what the lights send is at most sum_i I_i t_i = I s: s is the
-                // intensity-weighted mean of the children's (channel by channel, the largest).
-                const float* fa = &falloff[(size_t(a) - base) * kFalloffBins];
-                const float* fb = &falloff[(size_t(b) - base) * kFalloffBins];
-                float* f = &falloff[(id - base) * kFalloffBins];
-                for (int j = 0; j < kFalloffBins; ++j) {
-                    float s = 0;
-                    for (int ch = 0; ch < 3; ++ch) {
-                        float ia = std::max(0.f, na.intensity[ch]),
-                              ib = std::max(0.f, nb.intensity[ch]);
-                        if (ia + ib > 0) s = std::max(s, (ia * fa[j] + ib * fb[j]) / (ia + ib));
-                    }
-                    f[j] = std::min(1.f, s);
-                }
-            }
+            // Bin by bin the largest falloff (smallest q): the estimate, the representative's
+            // value scaled by the node's intensity, then never exceeds the node's bound.
+            for (int j = 0; j < kFalloffBins; ++j)
+                node.falloff[j] = std::min(na.falloff[j], nb.falloff[j]);
             // Representative: a child's, with probability proportional to its luminance.
             float la = std::max(0.f, na.intensity.luminance());
             float lb = std::max(0.f, nb.intensity.luminance());
@@ -336,13 +320,6 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         });
         std::swap(cl, next);
     }
-    // Rounded up once (and a little more, for the float sums), each node on its own.
-    if (kind == PointLightKind::Glossy)
-        tbb::parallel_for(base, m_nodes.size(), [&](size_t id) {
-            for (int j = 0; j < kFalloffBins; ++j)
-                m_nodes[id].falloff[j] =
-                    quantize_falloff(falloff[(id - base) * kFalloffBins + size_t(j)] * (1 + 1e-5f));
-        });
     m_roots[int(kind)] = cl.node[0];
 }
 

@@ -26,16 +26,23 @@ inline float fr_dielectric(float cos_i, float eta) {
 }
 
 // Fresnel reflectance of a conductor with complex IOR eta + i k (cos_i in [0, 1]).
-inline float fr_complex(float cos_i, float eta_re, float k) {
-    using C = std::complex<float>;
-    C eta(eta_re, k);
-    cos_i = std::clamp(cos_i, 0.f, 1.f);
-    float sin2_i = 1 - cos_i * cos_i;
-    C sin2_t = sin2_i / (eta * eta);
-    C cos_t = std::sqrt(1.f - sin2_t);
-    C r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    C r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5f * (std::norm(r_parl) + std::norm(r_perp));
+inline float fr_complex(float cos_i_f, float eta_re, float k) {
+    // The unpolarised reflectance (|r_parl|^2 + |r_perp|^2) / 2 for the complex IOR eta + i k,
+    // in real arithmetic (equal to the complex formulas, whose std::complex division and sqrt
+    // are slow library calls), in double: near R = 1 the differences below cancel.
+    double cos_i = std::clamp(double(cos_i_f), 0.0, 1.0);
+    double cos2 = cos_i * cos_i, sin2 = 1 - cos2;
+    double eta2 = double(eta_re) * eta_re, k2 = double(k) * k;
+    double t0 = eta2 - k2 - sin2;
+    double a2b2 = std::sqrt(std::max(0.0, t0 * t0 + 4 * eta2 * k2));  // |eta^2 - sin^2|
+    double t1 = a2b2 + cos2;
+    double a = std::sqrt(std::max(0.0, 0.5 * (a2b2 + t0)));
+    double t2 = 2 * cos_i * a;
+    double rs = t1 + t2 > 0 ? (t1 - t2) / (t1 + t2) : 1.0;
+    double t3 = cos2 * a2b2 + sin2 * sin2;
+    double t4 = t2 * sin2;
+    double rp = t3 + t4 > 0 ? rs * (t3 - t4) / (t3 + t4) : rs;
+    return float(0.5 * (rs + rp));
 }
 
 inline RGB fr_complex(float cos_i, const RGB& eta, const RGB& k) {

@@ -107,9 +107,9 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
 
 RGB LightcutsIntegrator::error_bound(const RGB& bound, const LightTreeNode& n,
                                      const RGB& estimate) const {
-    // The error of two non-negative values is at most the larger: the estimate may exceed a
-    // bound of the cluster's sum (a glossy cluster's falloff is its lights' intensity-weighted
-    // mean, while the estimate scales its representative's by the cluster's intensity).
+    // The error of two non-negative values is at most the larger. The bounds of bounds.h hold
+    // the estimate too (the representative's value scaled by the node's intensity), but float
+    // rounding may put it a hair above.
     RGB out;
     if (!(m_settings.clamp > 0) || n.clampable <= 0) {
         for (int c = 0; c < 3; ++c) out[c] = std::max(bound[c], estimate[c]);
