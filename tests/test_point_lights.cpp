@@ -12,12 +12,16 @@
 #include <cstring>
 #include <memory>
 
+#include "core/rng.h"
 #include "integrators/common.h"
 #include "integrators/path/path.h"
 #include "integrators/settings.h"
 #include "lights/lights.h"
+#include "manylight/bounds.h"
+#include "manylight/light_tree.h"
 #include "manylight/point_light_set.h"
 #include "manylight/vpl_generator.h"
+#include "materials/bxdfs.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 #include "scene/default_scene.h"
@@ -372,6 +376,62 @@ TEST(Vpl, IntensityWithinBound) {
     EXPECT_GT(glossy, 1000u) << "the conductor floor and the coated wall hold glossy VPLs";
     EXPECT_GT(sharp, glossy / 4) << "the falloff bounds the conductor's lobes well below the peak";
     EXPECT_EQ(violations, 0u) << "of " << checked;
+}
+
+// Clusters of glossy VPLs (the mixed box's conductor floor and coated wall, with their Bxdfs):
+// for random nodes, receivers and receiving BSDFs, a node's bound is at least the exact sum of
+// its lights' contributions without visibility.
+TEST(Vpl, GlossyClusterBoundsHoldTheirLights) {
+    auto scene = make_scene(mixed_box());
+    PointLightSet set = vpls_only(*scene, 20000, 5, 7);
+    LightTree tree(set.lights);
+    int32_t root = tree.root(PointLightKind::Glossy);
+    ASSERT_GE(root, 0);
+    std::vector<int32_t> nodes{root};
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (!tree.node(nodes[i]).is_leaf())
+            for (int32_t c : tree.node(nodes[i]).children) nodes.push_back(c);
+    auto leaves_of = [&](int32_t n) {
+        std::vector<int32_t> out, stack{n};
+        while (!stack.empty()) {
+            const LightTreeNode& m = tree.node(stack.back());
+            stack.pop_back();
+            if (m.is_leaf())
+                out.push_back(m.light);
+            else
+                stack.insert(stack.end(), {m.children[0], m.children[1]});
+        }
+        return out;
+    };
+    DiffuseBxdf diffuse(RGB(0.8f));
+    ConductorBxdf metal(TrowbridgeReitz(0.1f, 0.1f), RGB(0.2f, 0.9f, 1.1f), RGB(3.9f, 2.4f, 2.2f));
+    Rng rng(3);
+    int finite = 0, checked = 0;
+    for (int q = 0; q < 3000; ++q) {
+        int32_t n = nodes[rng.next_u32() % nodes.size()];
+        Vec3 x(-1.9f + 3.8f * rng.next_float(), 0.05f + 1.4f * rng.next_float(),
+               -1.9f + 4.8f * rng.next_float());
+        Vec3 axis = sample_uniform_sphere({rng.next_float(), rng.next_float()});
+        Frame frame = Frame::from_z(axis);
+        Bsdf bsdf(frame, frame.n, q % 2 ? static_cast<const Bxdf*>(&metal) : &diffuse);
+        Vec3 wo = sample_uniform_sphere({rng.next_float(), rng.next_float()});
+        RGB exact;
+        for (int32_t id : leaves_of(n)) {
+            const PointLight& pl = set.lights[size_t(id)];
+            Vec3 d = pl.p - x;
+            float d2 = length_squared(d);
+            Vec3 wi = d / std::sqrt(d2);
+            exact +=
+                bsdf.eval(wo, wi) * abs_dot(wi, frame.n) * point_light_intensity(set, pl, -wi) / d2;
+        }
+        RGB bound = node_error_bound(tree.node(n), x, bsdf, wo);
+        for (int c = 0; c < 3; ++c)
+            ASSERT_LE(exact[c], bound[c] * 1.0001f + 1e-12f)
+                << "node " << n << " channel " << c << " lights " << leaves_of(n).size();
+        finite += std::isfinite(bound.max_component());
+        ++checked;
+    }
+    EXPECT_GT(finite, checked / 2);
 }
 
 // A glossy light's falloff is stored rounded up: never below the value it stands for, and less
