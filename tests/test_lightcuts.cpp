@@ -164,6 +164,29 @@ TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
     }
 }
 
+// A cut stopped by max_cut is not within the error: --stats counts such gather points, and the
+// render warns when they are more than 5%.
+TEST(Lightcuts, WarnsWhenCutsReachTheCap) {
+    for (int max_cut : {4, 1000}) {
+        CutOptions opt;
+        opt.max_cut = max_cut;
+        RenderOutput out = render_many("lightcuts", cornell(), 500, 8, opt);
+        const std::string& json = out.figures.extra_json;
+        size_t pos = json.find("\"capped_fraction\": ");
+        ASSERT_NE(pos, std::string::npos) << json;
+        double capped = std::atof(json.c_str() + pos + 19);
+        bool warned = std::any_of(out.figures.warnings.begin(), out.figures.warnings.end(),
+                                  [](const std::string& w) { return w.find("max_cut") != w.npos; });
+        if (max_cut == 4) {
+            EXPECT_GT(capped, 0.9);
+            EXPECT_TRUE(warned);
+        } else {
+            EXPECT_LT(capped, 0.05);
+            EXPECT_FALSE(warned);
+        }
+    }
+}
+
 // A smooth coat over a diffuse floor: the gather point takes the base's light from the point
 // lights and the camera path also carries on through the coat's mirror lobe, where it sees the
 // area light itself. With emitters only (no VPLs), `vpl` and `lightcuts` must then match the

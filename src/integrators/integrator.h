@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "camera/camera.h"
 #include "core/progress.h"
@@ -34,6 +35,7 @@ struct RenderResult {
     // Images always written beside the output as OUT.NAME.exr (debugging output an integrator
     // was asked for through its settings, e.g. bdpt.strategy_images).
     std::map<std::string, Image> debug_images;
+    std::vector<std::string> warnings;  // for the user, e.g. that an error bound did not hold
 };
 
 class Integrator {

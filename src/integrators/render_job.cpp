@@ -144,6 +144,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     if (result.point_lights > 0) fig.point_lights = result.point_lights;
     fig.vpls = result.vpls;
     fig.extra_json = result.extra_json;
+    fig.warnings.insert(fig.warnings.end(), result.warnings.begin(), result.warnings.end());
     out.aovs = std::move(result.aovs);
     out.debug_images = std::move(result.debug_images);
     return out;

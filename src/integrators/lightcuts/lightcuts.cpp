@@ -44,6 +44,7 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     m_cut_sum = 0;
     m_gather_points = 0;
     m_cut_max = 0;
+    m_capped = 0;
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
@@ -51,6 +52,16 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     double pixels = double(ctx.film.width()) * ctx.film.height() * std::max(1, r.spp);
     double shadow_per_pixel = double(stats::total().shadow) / pixels;
     double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
+    double capped = n ? double(m_capped.load()) / double(n) : 0.0;
+    // A cut stopped by lightcuts.max_cut is not within the error: say so when that is common.
+    if (capped > 0.05)
+        r.warnings.push_back(fmt::format(
+            "lightcuts: {:.0f}% of gather points reached lightcuts.max_cut ({}), where the error "
+            "is not bounded by lightcuts.error{}",
+            100 * capped, m_max_cut,
+            m_set.glossy > 0 ? "; glossy VPLs with sharp lobes do that (vpl.glossy=diffuse "
+                               "keeps their diffuse part only)"
+                             : ""));
     std::string verify;
     if (m_verify) {
         uint64_t nodes = m_verified_nodes.load();
@@ -66,14 +77,15 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
         "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"reps\": {}, \"max_cut\": {}, "
         "\"avg_cut_size\": "
         "{:.2f}, "
-        "\"max_cut_size\": {}, \"gather_points\": {}, \"shadow_rays_per_pixel\": {:.1f}, "
+        "\"max_cut_size\": {}, \"capped_fraction\": {:.4f}, \"gather_points\": {}, "
+        "\"shadow_rays_per_pixel\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
         "\"glossy\": {}, "
         "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}{}}}",
-        m_error, criterion_name(), m_reps, m_max_cut, avg, m_cut_max.load(), n, shadow_per_pixel,
-        m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented, m_set.directional, m_set.glossy,
-        m_set.light_paths, m_direct.empty() ? "points" : "sample",
+        m_error, criterion_name(), m_reps, m_max_cut, avg, m_cut_max.load(), capped, n,
+        shadow_per_pixel, m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented,
+        m_set.directional, m_set.glossy, m_set.light_paths, m_direct.empty() ? "points" : "sample",
         m_direct.empty() ? 0 : m_direct.samples(), verify);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
     Image cut(ctx.film.width(), ctx.film.height());
@@ -94,6 +106,7 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
                                    &cut_size, direct);
             m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
             m_gather_points.fetch_add(1, std::memory_order_relaxed);
+            if (cut_size >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
             int prev = m_cut_max.load(std::memory_order_relaxed);
             while (cut_size > prev && !m_cut_max.compare_exchange_weak(prev, cut_size)) {
             }

@@ -80,7 +80,7 @@ private:
     LightTree m_tree;
     double m_tree_seconds = 0;
     // Figures: cut sizes summed over gather points, the largest cut, and per pixel.
-    mutable std::atomic<uint64_t> m_cut_sum{0}, m_gather_points{0};
+    mutable std::atomic<uint64_t> m_cut_sum{0}, m_gather_points{0}, m_capped{0};
     mutable std::atomic<int> m_cut_max{0};
     mutable std::vector<float> m_pixel_cut;  // each pixel is written by one thread only
     mutable std::vector<uint32_t> m_pixel_samples;
