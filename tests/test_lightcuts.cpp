@@ -165,7 +165,7 @@ TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
 }
 
 // A cut stopped by max_cut is not within the error: --stats counts such gather points, and the
-// render warns when they are more than 5%.
+// render warns when they are more than 10%.
 TEST(Lightcuts, WarnsWhenCutsReachTheCap) {
     for (int max_cut : {4, 1000}) {
         CutOptions opt;

@@ -113,6 +113,28 @@ TEST(MdLightcuts, SumCriterionBoundsEveryPixel) {
     EXPECT_GE(a.fraction_within(0.05 * 1.001), 0.999);
 }
 
+// A cut stopped by max_cut is not within the error: --stats counts such pixel passes, and the
+// render warns when they are more than 10%.
+TEST(MdLightcuts, WarnsWhenCutsReachTheCap) {
+    for (const char* max_cut : {"8", "2000"}) {
+        RenderOptions opt = many_light_options("mdlightcuts", 8, 16);
+        opt.set["mdlightcuts.max_cut"] = max_cut;
+        RenderOutput out = render_scene(cornell_4096(), opt);
+        const std::string& json = out.figures.extra_json;
+        size_t pos = json.find("\"capped_fraction\": ");
+        ASSERT_NE(pos, std::string::npos) << json;
+        double capped = std::atof(json.c_str() + pos + 19);
+        bool warned = !out.figures.warnings.empty() &&
+                      out.figures.warnings.back().find("max_cut") != std::string::npos;
+        bool small = std::string(max_cut) == "8";
+        EXPECT_EQ(warned, small) << json;
+        if (small)
+            EXPECT_GT(capped, 0.9);
+        else
+            EXPECT_LT(capped, 0.1);
+    }
+}
+
 // Two passes of 16 samples (spp 20 rounds up to 32) shade with independent representatives, so
 // the error shrinks and stays unbiased.
 TEST(MdLightcuts, PassesRoundUpAndAverage) {

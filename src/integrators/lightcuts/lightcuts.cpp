@@ -54,7 +54,7 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
     double capped = n ? double(m_capped.load()) / double(n) : 0.0;
     // A cut stopped by lightcuts.max_cut is not within the error: say so when that is common.
-    if (capped > 0.05)
+    if (capped > 0.1)
         r.warnings.push_back(fmt::format(
             "lightcuts: {:.0f}% of gather points reached lightcuts.max_cut ({}), where the error "
             "is not bounded by lightcuts.error{}",

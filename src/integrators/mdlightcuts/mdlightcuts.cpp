@@ -57,6 +57,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
     m_pixel_passes_done.assign(m_pixel_pairs.size(), 0);
     m_pair_sum = 0, m_pixel_passes = 0, m_gather_points = 0, m_gather_tree_ns = 0, m_pair_max = 0;
+    m_capped = 0;
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
     });
@@ -102,6 +103,16 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     result.extra_json = figures_json(ctx, done);
+    // A cut stopped by mdlightcuts.max_cut is not within the error: say so when that is common.
+    double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
+    if (capped > 0.1)
+        result.warnings.push_back(fmt::format(
+            "mdlightcuts: {:.0f}% of pixel passes reached mdlightcuts.max_cut ({}), where the "
+            "error is not bounded by mdlightcuts.error{}",
+            100 * capped, m_max_cut,
+            m_set.glossy > 0 ? "; glossy VPLs with sharp lobes do that (vpl.glossy=diffuse "
+                               "keeps their diffuse part only)"
+                             : ""));
     // The cut-size heat map: the mean number of pairs of each pixel's passes.
     Image cut(w, h);
     for (size_t i = 0; i < m_pixel_pairs.size(); ++i)
@@ -181,6 +192,7 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     // 4. Figures.
     m_pair_sum.fetch_add(uint64_t(pairs), std::memory_order_relaxed);
     m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
+    if (pairs >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
     m_gather_points.fetch_add(ts.points.size(), std::memory_order_relaxed);
     int prev = m_pair_max.load(std::memory_order_relaxed);
     while (pairs > prev && !m_pair_max.compare_exchange_weak(prev, pairs)) {
@@ -197,7 +209,8 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
     return fmt::format(
         "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"criterion\": \"{}\", "
         "\"max_cut\": {}, \"tighten\": {}, \"passes\": {}, "
-        "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"gather_points_per_pixel_pass\": "
+        "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"capped_fraction\": {:.4f}, "
+        "\"gather_points_per_pixel_pass\": "
         "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
         "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
         "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
@@ -205,10 +218,11 @@ std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int pa
         "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
         m_samples, m_error, m_criterion == CutCriterion::Max ? "max" : "sum", m_max_cut, m_tighten,
         passes, double(m_pair_sum.load()) / pixel_passes, m_pair_max.load(),
-        double(m_gather_points.load()) / pixel_passes, shadow / pixels, shadow / pixel_passes,
-        m_tree_seconds, double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni,
-        m_set.oriented, m_set.directional, m_set.glossy, m_set.light_paths,
-        m_direct.empty() ? "points" : "sample", m_direct.empty() ? 0 : m_direct.samples());
+        double(m_capped.load()) / pixel_passes, double(m_gather_points.load()) / pixel_passes,
+        shadow / pixels, shadow / pixel_passes, m_tree_seconds,
+        double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni, m_set.oriented,
+        m_set.directional, m_set.glossy, m_set.light_paths, m_direct.empty() ? "points" : "sample",
+        m_direct.empty() ? 0 : m_direct.samples());
 }
 
 }  // namespace ml

@@ -53,7 +53,7 @@ private:
     double m_tree_seconds = 0;
     // Figures: pairs summed over pixel passes, the largest cut, gather points, gather-tree time.
     mutable std::atomic<uint64_t> m_pair_sum{0}, m_pixel_passes{0}, m_gather_points{0};
-    mutable std::atomic<uint64_t> m_gather_tree_ns{0};
+    mutable std::atomic<uint64_t> m_gather_tree_ns{0}, m_capped{0};
     mutable std::atomic<int> m_pair_max{0};
     mutable std::vector<float> m_pixel_pairs;  // each pixel is written by one thread only
     mutable std::vector<uint32_t> m_pixel_passes_done;
