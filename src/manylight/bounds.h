@@ -5,8 +5,9 @@
 // Each bound holds for every light of the node, whatever its position in the node's box and
 // its direction in the node's cone: the exact contribution
 //   sum_i f(wo, wi) |cos(n, wi)| I_i(-wi) / d_i^2     (directional lights: without the 1/d^2)
-// never exceeds node_error_bound(). Glossy VPLs are covered through the promise of
-// point_light.h that their intensity bounds their lobe times the cosine about n.
+// never exceeds node_error_bound(). Oriented VPLs on surfaces kept with their BSDF (a coated
+// base alone) are covered through the promise of point_light.h that their intensity bounds f,
+// glossy VPLs through their falloff (intensity times it bounds f |cos| away from the lobe).
 #pragma once
 
 #include "core/color.h"
@@ -18,7 +19,8 @@
 namespace ml {
 
 // Upper bound of G over the node's lights at x (the 1/d^2 falloff, times the emitter's cosine
-// for oriented lights; 1 for directional lights). +infinity when x is inside the node's box.
+// for oriented lights and the falloff for glossy ones; 1 for directional lights). +infinity when
+// x is inside the node's box.
 float geometric_bound(const LightTreeNode& node, const Vec3& x);
 
 // The cone of directions from x towards the node's lights (the incident directions wi the
