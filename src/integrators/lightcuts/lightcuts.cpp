@@ -53,15 +53,8 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     double shadow_per_pixel = double(stats::total().shadow) / pixels;
     double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
     double capped = n ? double(m_capped.load()) / double(n) : 0.0;
-    // A cut stopped by lightcuts.max_cut is not within the error: say so when that is common.
-    if (capped > 0.1)
-        r.warnings.push_back(fmt::format(
-            "lightcuts: {:.0f}% of gather points reached lightcuts.max_cut ({}), where the error "
-            "is not bounded by lightcuts.error{}",
-            100 * capped, m_max_cut,
-            m_set.glossy > 0 ? "; glossy VPLs with sharp lobes do that (vpl.glossy=diffuse "
-                               "keeps their diffuse part only)"
-                             : ""));
+    std::string warning = capped_cut_warning(name(), "gather points", capped, m_max_cut, m_set);
+    if (!warning.empty()) r.warnings.push_back(warning);
     std::string verify;
     if (m_verify) {
         uint64_t nodes = m_verified_nodes.load();

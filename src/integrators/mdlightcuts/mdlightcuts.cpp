@@ -103,16 +103,9 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     result.extra_json = figures_json(ctx, done);
-    // A cut stopped by mdlightcuts.max_cut is not within the error: say so when that is common.
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
-    if (capped > 0.1)
-        result.warnings.push_back(fmt::format(
-            "mdlightcuts: {:.0f}% of pixel passes reached mdlightcuts.max_cut ({}), where the "
-            "error is not bounded by mdlightcuts.error{}",
-            100 * capped, m_max_cut,
-            m_set.glossy > 0 ? "; glossy VPLs with sharp lobes do that (vpl.glossy=diffuse "
-                               "keeps their diffuse part only)"
-                             : ""));
+    std::string warning = capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set);
+    if (!warning.empty()) result.warnings.push_back(warning);
     // The cut-size heat map: the mean number of pairs of each pixel's passes.
     Image cut(w, h);
     for (size_t i = 0; i < m_pixel_pairs.size(); ++i)

@@ -1,5 +1,7 @@
 #include "integrators/vpl/vpl.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 
 #include "manylight/gather.h"
@@ -50,6 +52,18 @@ void build_many_lights(const Scene& scene, const ManyLightSettings& settings, Po
     *set = build_point_light_set(scene, settings.lights);
     *direct = settings.lights.sampled_direct ? SampledDirectLight(scene, settings.direct_samples)
                                              : SampledDirectLight();
+}
+
+std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
+                               int max_cut, const PointLightSet& set) {
+    if (!(capped > 0.1)) return "";
+    return fmt::format(
+        "{0}: {1:.0f}% of {2} reached {0}.max_cut ({3}), where the error is not bounded by "
+        "{0}.error{4}",
+        integrator, 100 * capped, what, max_cut,
+        set.glossy > 0 ? "; glossy VPLs with sharp lobes do that (vpl.glossy=diffuse keeps their "
+                         "diffuse part only)"
+                       : "");
 }
 
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,

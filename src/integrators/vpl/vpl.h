@@ -3,6 +3,8 @@
 // O(lights) per pixel: the exact reference Lightcuts is measured against on the same set.
 #pragma once
 
+#include <string>
+
 #include "integrators/integrator.h"
 #include "integrators/settings.h"
 #include "manylight/direct.h"
@@ -33,6 +35,12 @@ void build_many_lights(const Scene& scene, const ManyLightSettings& settings, Po
                        SampledDirectLight* direct);
 // The light tree over `set` as `lightcuts` and `mdlightcuts` build it (representatives seeded by
 // lights.seed, the cone weight from the scene's size); *seconds receives the build time.
+// For `lightcuts` and `mdlightcuts`: the warning that a fraction `capped` of their cuts (of
+// "gather points" or "pixel passes", `what`) stopped at max_cut, where the error is not bounded;
+// empty below 10%.
+std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
+                               int max_cut, const PointLightSet& set);
+
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
                            const PointLightSet& set, double* seconds);
 
