@@ -32,9 +32,9 @@ constexpr PointLightKind kAllPointLightKinds[kPointLightKinds] = {
     PointLightKind::Glossy};
 
 // A glossy light's falloff: bin k bounds, relative to the intensity (channel by channel), what
-// the light sends in the directions at least kFalloffAngles[k] from its axis. Stored as q, for
-// the value 2^(-q / 16) (q = 0: 1), rounded so that the stored value is never below the bound.
-// A cluster keeps, bin by bin, the largest value (smallest q) of its lights.
+// the light sends in the directions at least bin k's angle (kFalloffCos) from its axis. Stored as
+// q, for the value 2^(-q / 16) (q = 0: 1), rounded so that the stored value is never below the
+// bound. A cluster keeps, bin by bin, the largest value (smallest q) of its lights.
 constexpr int kFalloffBins = 8;
 // cos of the bins' angles: 0, 3, 6, 12, 20, 35, 55 and 80 degrees.
 extern const float kFalloffCos[kFalloffBins];
@@ -55,9 +55,12 @@ enum class GlossyVpls : uint8_t { Bsdf, Diffuse, Skip };
 
 struct PointLight {
     Vec3 p;  // position (omni, oriented)
-    Vec3 n;  // oriented: lobe axis; directional: unit direction the light travels; spot: axis
-    // Omni: W/sr. Oriented: W/sr along n, an upper bound of the lobe everywhere (for a glossy
-    // VPL: flux times the largest BSDF value). Directional: irradiance at normal incidence.
+    // Oriented: lobe axis; glossy: mirror direction; directional: unit direction the light
+    // travels; spot: axis.
+    Vec3 n;
+    // Omni: W/sr. Oriented: W/sr along n, an upper bound of the lobe everywhere (for a VPL kept
+    // with its BSDF: flux times the largest BSDF value). Glossy: flux times a bound of f |cos|
+    // over every direction. Directional: irradiance at normal incidence.
     RGB intensity;
     PointLightKind kind = PointLightKind::Omni;
     // Spot lights: smoothstep falloff from 1 inside cos_start to 0 outside cos_end (about n).

@@ -33,14 +33,13 @@ struct ManyLightSettings {
 // lights.direct=sample, the sampled direct light.
 void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
                        SampledDirectLight* direct);
-// The light tree over `set` as `lightcuts` and `mdlightcuts` build it (representatives seeded by
-// lights.seed, the cone weight from the scene's size); *seconds receives the build time.
 // For `lightcuts` and `mdlightcuts`: the warning that a fraction `capped` of their cuts (of
 // "gather points" or "pixel passes", `what`) stopped at max_cut, where the error is not bounded;
 // empty below 10%.
 std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
                                int max_cut, const PointLightSet& set);
-
+// The light tree over `set` as `lightcuts` and `mdlightcuts` build it (representatives seeded by
+// lights.seed, the cone weight from the scene's size); *seconds receives the build time.
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
                            const PointLightSet& set, double* seconds);
 
