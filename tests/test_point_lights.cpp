@@ -343,7 +343,7 @@ Estimate vpl_irradiance(const Scene& scene, const PointLightSet& set, const Surf
         float cos_r = dot(n, w);
         if (cos_r <= 0) continue;
         float I = point_light_intensity(set, pl, -w).r;
-        if (I <= 0 || !scene.visible(si, pl.p)) continue;
+        if (I <= 0 || !scene.visible(si, pl.p, pl.offset)) continue;
         sums[i * batches / set.lights.size()] += double(I * cos_r / d2);
     }
     Estimate e;

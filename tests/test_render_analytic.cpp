@@ -160,3 +160,41 @@ AttributeEnd
                 d.reference_mean, d.stderr_of_mean);
     EXPECT_NEAR(d.mean, 0.0, 4 * d.stderr_of_mean);
 }
+
+// The kitchen's blinds in miniature: a closed diffuse-transmission sheet 0.27 mm thick, 2.75
+// units from the origin (as Mesh110.ply), in front of a large emitter of radiance 1 and seen
+// from the other side. Light crosses both of its surfaces, with reflections between them:
+// L = T^2 / (1 - R^2) (pbrt-v4's answer); a ray offset that skips the second surface gives T.
+TEST(RenderThinSheet, LightCrossesBothSurfacesOfAClosedSheet) {
+    const float t = 0.3f, r = 0.3f, z = -2.7485f, half = 1.35e-4f;
+    std::string scene = fmt::format(R"(
+LookAt 0 0 -1.5  0 0 -3  0 1 0
+Camera "perspective" "float fov" [ 10 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+Sampler "independent"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 1 1 1 ] "bool twosided" true
+  Material "diffuse" "rgb reflectance" [ 0 0 0 ]
+  Shape "trianglemesh" "point3 P" [ -8 -8 -2.76  8 -8 -2.76  8 8 -2.76  -8 8 -2.76 ]
+    "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Material "diffusetransmission" "rgb reflectance" [ {0} {0} {0} ]
+  "rgb transmittance" [ {1} {1} {1} ]
+Shape "trianglemesh" "point3 P" [ -5 -5 {2}  5 -5 {2}  -5 5 {2}  5 5 {2}
+                                  -5 -5 {3}  5 -5 {3}  -5 5 {3}  5 5 {3} ]
+  "integer indices" [ 0 2 3 0 3 1  4 5 7 4 7 6  0 1 5 0 5 4  2 6 7 2 7 3  0 4 6 0 6 2
+                      1 3 7 1 7 5 ]
+)",
+                                    r, t, z - half, z + half);
+    RenderOptions opt;
+    opt.integrator = "path";
+    opt.spp = 64;
+    opt.max_depth = 16;
+    opt.seed = 3;
+    Image img = test::render_text(scene, opt).image;
+    double expected = t * t / (1 - r * r);
+    test::ChannelStats st = test::channel_stats(img, 1);
+    EXPECT_NEAR(st.mean, expected, 5 * st.stderr_of_mean + 5e-3 * expected)
+        << "one surface crossed would give " << t;
+}

@@ -24,6 +24,14 @@ inline float safe_acos(float x) { return std::acos(std::clamp(x, -1.f, 1.f)); }
 inline float safe_asin(float x) { return std::asin(std::clamp(x, -1.f, 1.f)); }
 inline float lerp(float t, float a, float b) { return (1 - t) * a + t * b; }
 
+// Floating-point error analysis (Higham; pbrt-v4 section 6.8): the unit roundoff, the bound
+// gamma(n) = n u / (1 - n u) on the relative error of n successive roundings, and the
+// neighbouring floats (std::nextafter, without its errno and long-double detours).
+constexpr float kMachineEpsilon = std::numeric_limits<float>::epsilon() * 0.5f;
+constexpr float gamma_bound(int n) { return (n * kMachineEpsilon) / (1 - n * kMachineEpsilon); }
+inline float next_float_up(float v) { return std::nextafter(v, kInfinity); }
+inline float next_float_down(float v) { return std::nextafter(v, -kInfinity); }
+
 struct Vec2 {
     float x = 0, y = 0;
     constexpr Vec2() = default;

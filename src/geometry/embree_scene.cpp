@@ -2,11 +2,19 @@
 
 #include <embree3/rtcore.h>
 
+#include <limits>
 #include <stdexcept>
 
 #include "core/stats.h"
 
 namespace ml {
+
+namespace {
+// Hits at t = 0 do not count. Embree accepts t >= tnear; an origin exactly on a plane (a point
+// whose error bound is zero, so offset_ray_origin leaves it there) computes t = 0 exactly for
+// that plane, which pbrt-v4's intersector rejects (t must exceed its error bound) and so do we.
+constexpr float kTNear = std::numeric_limits<float>::min();
+}  // namespace
 
 struct EmbreeScene::Impl {
     RTCDevice device = nullptr;
@@ -57,7 +65,7 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
     rh.ray.dir_x = ray.d.x;
     rh.ray.dir_y = ray.d.y;
     rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = 0.f;
+    rh.ray.tnear = kTNear;
     rh.ray.tfar = ray.tmax;
     rh.ray.time = ray.time;
     rh.ray.mask = 0xffffffffu;
@@ -84,7 +92,7 @@ void set_lane(RayN& p, int i, const Ray& r) {
     p.dir_x[i] = r.d.x;
     p.dir_y[i] = r.d.y;
     p.dir_z[i] = r.d.z;
-    p.tnear[i] = 0.f;
+    p.tnear[i] = kTNear;
     p.tfar[i] = r.tmax;
     p.time[i] = r.time;
     p.mask[i] = 0xffffffffu;
@@ -181,7 +189,7 @@ bool EmbreeScene::occluded(const Ray& ray) const {
     r.dir_x = ray.d.x;
     r.dir_y = ray.d.y;
     r.dir_z = ray.d.z;
-    r.tnear = 0.f;
+    r.tnear = kTNear;
     r.tfar = ray.tmax;
     r.time = ray.time;
     r.mask = 0xffffffffu;
@@ -202,6 +210,9 @@ void EmbreeScene::fill_interaction(const Ray& ray, unsigned geom_id, unsigned pr
     const Vec3 &p0 = m.p[i0], &p1 = m.p[i1], &p2 = m.p[i2];
     // Interpolate the position from the vertices rather than o + t d: more accurate.
     si->p = p0 * w + p1 * u + p2 * v;
+    // Whatever the barycentrics' own errors (they move p within the plane), the interpolation
+    // leaves p within this of the triangle's plane (pbrt-v4's bound for its triangles).
+    si->p_error = (vabs(p0 * w) + vabs(p1 * u) + vabs(p2 * v)) * gamma_bound(7);
     si->t = t;
     si->time = ray.time;
     si->wo = -ray.d;

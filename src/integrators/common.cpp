@@ -30,7 +30,7 @@ RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf
     auto ls = light.sample_li(light_context(si), u_light);
     if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return RGB();
     RGB f = bsdf.eval(si.wo, ls->wi) * abs_dot(ls->wi, si.ns);
-    if (f.is_black() || !scene.visible(si, ls->p_light)) return RGB();
+    if (f.is_black() || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
     if (!mis || is_delta_light(light.type())) return f * ls->L / ls->pdf_solid_angle;
     float w = power_heuristic(light_pmf * ls->pdf_solid_angle, bsdf.pdf_solid_angle(si.wo, ls->wi));
     return f * ls->L * (w / ls->pdf_solid_angle);

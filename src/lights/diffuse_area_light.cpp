@@ -29,8 +29,8 @@ public:
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                            const Vec2& u) const override {
         if (m_area <= 0) return std::nullopt;
-        Vec3 p, n;
-        sample_point(u, &p, &n);
+        Vec3 p, n, p_error;
+        sample_point(u, &p, &n, &p_error);
         Vec3 d = p - ctx.p;
         float d2 = length_squared(d);
         if (d2 == 0) return std::nullopt;
@@ -43,6 +43,7 @@ public:
         s.pdf_solid_angle = d2 / (std::abs(cos_l) * m_area);
         s.p_light = p;
         s.n_light = n;
+        s.p_error = p_error;
         return s;
     }
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
@@ -60,7 +61,7 @@ public:
     std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const override {
         if (m_area <= 0) return std::nullopt;
         LightLeSample s;
-        sample_point(u_pos, &s.ray.o, &s.n_light);
+        sample_point(u_pos, &s.ray.o, &s.n_light, &s.p_error);
         // Cosine-weighted about the normal; two-sided lights pick a side with half of u_dir.x.
         Vec2 u = u_dir;
         bool back = false;
@@ -93,7 +94,10 @@ public:
         RGB I = m_L * (m_area / float(n));
         for (int i = 0; i < n; ++i) {
             PointLight pl;
-            sample_point(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &pl.p, &pl.n);
+            Vec3 p_error;
+            sample_point(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &pl.p, &pl.n,
+                         &p_error);
+            pl.offset = surface_offset(pl.n, p_error);
             pl.intensity = I;
             pl.kind = PointLightKind::Oriented;
             out.push_back(pl);
@@ -105,12 +109,17 @@ public:
     }
 
 private:
-    void sample_point(Vec2 u, Vec3* p, Vec3* n) const {
+    // A uniform point p on the mesh, its normal n and the error bound of p.
+    void sample_point(Vec2 u, Vec3* p, Vec3* n, Vec3* p_error) const {
         float ux;
         size_t tri = m_tri.sample_discrete(u.x, nullptr, &ux);
         Barycentrics b = sample_uniform_triangle({ux, u.y});
         const uint32_t* idx = &m_mesh->indices[3 * tri];
-        *p = m_mesh->p[idx[0]] * b.b0 + m_mesh->p[idx[1]] * b.b1 + m_mesh->p[idx[2]] * b.b2;
+        Vec3 p0 = m_mesh->p[idx[0]] * b.b0, p1 = m_mesh->p[idx[1]] * b.b1,
+             p2 = m_mesh->p[idx[2]] * b.b2;
+        *p = p0 + p1 + p2;
+        // As for ray hits, with one rounding fewer (pbrt-v4's Triangle::Sample).
+        *p_error = (vabs(p0) + vabs(p1) + vabs(p2)) * gamma_bound(6);
         *n = m_mesh->triangle_normal(tri);
     }
 

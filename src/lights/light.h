@@ -8,6 +8,7 @@
 
 #include "core/color.h"
 #include "core/math.h"
+#include "geometry/interaction.h"
 
 namespace ml {
 
@@ -36,12 +37,16 @@ struct LightLiSample {
     float pdf_solid_angle = 0;  // for delta lights: 1 (a discrete choice)
     Vec3 p_light;               // point on the light (for infinite/distant: far along wi)
     Vec3 n_light;               // normal there (zero for point-like lights)
+    Vec3 p_error;               // error bound of each coordinate of p_light (zero: exact)
+    // What a shadow ray towards p_light moves it by (segment_ray).
+    Vec3 offset() const { return surface_offset(n_light, p_error); }
 };
 
 struct LightLeSample {
     RGB L;              // emitted radiance along the ray
     Ray ray;            // origin on the light, unit direction
     Vec3 n_light;       // surface normal at the origin (zero for points and directions)
+    Vec3 p_error;       // error bound of each coordinate of the origin (zero: exact)
     float pdf_pos = 0;  // area density of the origin (1 for delta positions)
     float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };

@@ -38,8 +38,7 @@ bool point_light_contribution(const PointLightSet& set, const PointLight& pl, co
     if (pl.kind == PointLightKind::Directional) {
         wi = -pl.n;
         I = pl.intensity;
-        Vec3 o = si.offset_origin(wi);
-        *shadow = Ray{o, wi, kInfinity, si.time};
+        *shadow = Ray{si.offset_origin(wi), wi, kInfinity, si.time};
     } else {
         Vec3 d = pl.p - si.p;
         float d2 = length_squared(d);
@@ -48,8 +47,7 @@ bool point_light_contribution(const PointLightSet& set, const PointLight& pl, co
         I = point_light_intensity(set, pl, -wi);
         if (I.is_black()) return false;
         I = I / d2;
-        Vec3 o = si.offset_origin(wi);
-        *shadow = Ray{o, pl.p - o, 1.f - 1e-4f, si.time};
+        *shadow = segment_ray(si.p, si.offset(), pl.p, pl.offset, si.time);
     }
     RGB f = g.bsdf.eval(si.wo, wi) * abs_dot(wi, si.ns);
     if (f.is_black()) return false;

@@ -58,6 +58,9 @@ struct PointLight {
     // Oriented: lobe axis; glossy: mirror direction; directional: unit direction the light
     // travels; spot: axis.
     Vec3 n;
+    // On a surface (VPLs, area-light samples): what shadow rays move p by (segment_ray); zero
+    // for points on no surface.
+    Vec3 offset;
     // Omni: W/sr. Oriented: W/sr along n, an upper bound of the lobe everywhere (for a VPL kept
     // with its BSDF: flux times the largest BSDF value). Glossy: flux times a bound of f |cos|
     // over every direction. Directional: irradiance at normal incidence.

@@ -71,10 +71,7 @@ private:
         // skipping glossy surfaces, glossy), and carrying on by importance-mode BSDF sampling.
         // Off the emitter's surface (sample_le leaves the origin on it), as spawn_ray does.
         Ray ray = le->ray;
-        if (on_surface) {
-            float scale = 1e-4f * std::max(1.f, max_component(vabs(ray.o)));
-            ray.o += le->n_light * (dot(ray.d, le->n_light) < 0 ? -scale : scale);
-        }
+        ray.o = offset_ray_origin(ray.o, surface_offset(le->n_light, le->p_error), ray.d);
         SurfaceInteraction si;
         int deposited = 0;
         int max_bounces = 4 * m_options.max_depth + 16;  // delta and skipped surfaces included
@@ -112,6 +109,7 @@ private:
                  Chunk& chunk) const {
         PointLight pl;
         pl.p = si.p;
+        pl.offset = si.offset();
         pl.is_vpl = true;
         Vec3 wi = si.wo;
         // The side the light arrived on.

@@ -33,12 +33,10 @@ public:
     void occluded8(const Ray rays[8], const bool active[8], bool occluded[8]) const {
         m_embree->occluded8(rays, active, occluded);
     }
-    // True if nothing blocks the segment from the surface point `si` to the point `p`.
-    bool visible(const SurfaceInteraction& si, const Vec3& p) const {
-        Vec3 o = si.offset_origin(p - si.p);
-        // An unnormalised direction: t in (0, 1) spans the segment, shortened at the far end
-        // so the light's own surface does not block it.
-        return !m_embree->occluded(Ray{o, p - o, 1.f - 1e-4f});
+    // True if nothing blocks the segment from the surface point `si` to the point `p`, which
+    // a ray moves by `p_offset` off its own surface (segment_ray; zero: p is on no surface).
+    bool visible(const SurfaceInteraction& si, const Vec3& p, const Vec3& p_offset) const {
+        return !m_embree->occluded(segment_ray(si.p, si.offset(), p, p_offset, si.time));
     }
 
     const std::vector<std::unique_ptr<Light>>& lights() const { return m_desc.lights; }

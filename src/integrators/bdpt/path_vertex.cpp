@@ -82,13 +82,8 @@ float PathVertex::pdf_light_origin(const BdptScene& ctx, const PathVertex& v) co
 
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
     // Points on surfaces (lights' included) are moved off them towards each other; the lens
-    // and point lights stay put.
-    auto origin = [](const PathVertex& v, const Vec3& towards) {
-        bool offset = v.kind != VertexKind::Camera && v.on_surface();
-        return offset ? v.si.offset_origin(towards - v.p()) : v.p();
-    };
-    Vec3 pa = origin(a, b.p()), pb = origin(b, a.p());
-    return !scene.occluded(Ray{pa, pb - pa, 1.f - 1e-4f});
+    // and point lights stay put (their p_error is zero).
+    return !scene.occluded(segment_ray(a.p(), a.si.offset(), b.p(), b.si.offset(), a.si.time));
 }
 
 }  // namespace ml

@@ -177,7 +177,8 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
             if (!sl || sl->pmf == 0) return std::nullopt;
             auto ls = sl->light->sample_li(LightSampleContext{p.p(), p.ng(), p.ns()}, u);
             if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return std::nullopt;
-            lv[0] = PathVertex::light_endpoint(sl->light, ls->p_light, ls->n_light, RGB(1.f), 0);
+            lv[0] = PathVertex::light_endpoint(sl->light, ls->p_light, ls->n_light, RGB(1.f), 0,
+                                               ls->p_error);
         }
         PathVertex& q = lv[size_t(s - 1)];
         if (!q.is_connectible() || !mutually_visible(ctx.scene, p, q)) return std::nullopt;

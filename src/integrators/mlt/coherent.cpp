@@ -100,12 +100,7 @@ void trace_tries(const BdptScene& ctx, const MltPath& from, int j, const Vec2* u
             active[i] = false;
             continue;
         }
-        auto origin = [](const PathVertex& v, const Vec3& towards) {
-            bool offset = v.kind != VertexKind::Camera && v.on_surface();
-            return offset ? v.si.offset_origin(towards - v.p()) : v.p();
-        };
-        Vec3 pa = origin(a, b.p()), pb = origin(b, a.p());
-        rays[i] = Ray{pa, pb - pa, 1.f - 1e-4f};
+        rays[i] = segment_ray(a.p(), a.si.offset(), b.p(), b.si.offset(), a.si.time);
     }
     if (any(active)) occluded_packet(ctx.scene, rays, active, blocked);
 
