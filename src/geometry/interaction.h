@@ -43,8 +43,10 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& offset, const Vec3& w) 
 inline Ray segment_ray(const Vec3& from, const Vec3& from_offset, const Vec3& to,
                        const Vec3& to_offset, float time = 0) {
     Vec3 o = offset_ray_origin(from, from_offset, to - from);
+    // Lengthened along itself by the error, with its largest component for its length (a
+    // floor offset's squared length would underflow; the bound grows by at most sqrt(3)).
     Vec3 off = to_offset;
-    float l = length(to_offset);
+    float l = max_component(vabs(to_offset));
     if (l > 0) off = off * (1 + gamma_bound(4) * dot(vabs(to - o), Vec3(1, 1, 1)) / l);
     Vec3 e = offset_ray_origin(to, off, o - to);
     return Ray{o, e - o, 1.f, time};
