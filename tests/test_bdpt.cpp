@@ -63,7 +63,6 @@ LookAt 0 1.5 5  0 0.4 0  0 1 0
 Camera "perspective" "float fov" [ 40 ]
 Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ 32 ]
 Sampler "independent"
-PixelFilter "box"
 WorldBegin
 {}
 Material "diffuse" "rgb reflectance" [ 0.6 0.5 0.4 ]

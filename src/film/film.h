@@ -18,8 +18,10 @@ public:
     int height() const { return m_height; }
     // Adds a camera sample of pixel p; only the thread rendering p calls this for p.
     void add_sample(Point2i p, RGB L, float weight);
-    // Adds a contribution at a raster position from any thread (atomic).
+    // Adds to the splat sum of the pixel that holds raster position p_film, from any thread
+    // (atomic): contributions already spread over the filter (SplatFilter).
     void add_splat(const Vec2& p_film, RGB v);
+    float max_component_value() const { return m_max_component; }
     // The image: weighted mean per pixel, plus splats times `splat_scale`.
     Image to_image(float splat_scale = 1.f) const;
     void clear();

@@ -13,6 +13,7 @@ public:
     float eval(const Vec2& p) const override {
         return (std::abs(p.x) <= m_r.x && std::abs(p.y) <= m_r.y) ? 1.f : 0.f;
     }
+    float integral() const override { return 4 * m_r.x * m_r.y; }
     FilterSample sample(const Vec2& u) const override {
         return {Vec2((2 * u.x - 1) * m_r.x, (2 * u.y - 1) * m_r.y), 1.f};
     }
@@ -34,6 +35,7 @@ public:
     float eval(const Vec2& p) const override {
         return std::max(0.f, m_r.x - std::abs(p.x)) * std::max(0.f, m_r.y - std::abs(p.y));
     }
+    float integral() const override { return sqr(m_r.x) * sqr(m_r.y); }
     FilterSample sample(const Vec2& u) const override {
         return {Vec2(sample_tent(u.x, m_r.x), sample_tent(u.y, m_r.y)), 1.f};
     }
@@ -61,6 +63,7 @@ public:
                 ax.f[i] = g1(x, ax.r);
                 ax.cdf[i + 1] = ax.cdf[i] + ax.f[i];
             }
+            ax.integral = ax.cdf[bins] * 2 * ax.r / float(bins);
             for (float& c : ax.cdf) c /= ax.cdf[bins];
             // Where each of kGuide equal steps of u starts its search: sampling is a lookup plus
             // a step or two along the CDF.
@@ -75,6 +78,7 @@ public:
     }
     Vec2 radius() const override { return m_r; }
     float eval(const Vec2& p) const override { return m_axis[0].eval(p.x) * m_axis[1].eval(p.y); }
+    float integral() const override { return m_axis[0].integral * m_axis[1].integral; }
     FilterSample sample(const Vec2& u) const override {
         return {Vec2(m_axis[0].sample(u.x), m_axis[1].sample(u.y)), 1.f};
     }
@@ -83,6 +87,7 @@ private:
     static constexpr int kGuide = 256;
     struct Axis {
         float r;
+        float integral = 0;  // of the table
         std::vector<float> f, cdf;
         std::vector<int> guide;
         float eval(float x) const {

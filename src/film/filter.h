@@ -22,6 +22,8 @@ public:
     virtual ~Filter() = default;
     virtual Vec2 radius() const = 0;
     virtual float eval(const Vec2& p) const = 0;
+    // The integral of eval over the plane.
+    virtual float integral() const = 0;
     virtual FilterSample sample(const Vec2& u) const = 0;
 };
 

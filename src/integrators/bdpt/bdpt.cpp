@@ -79,9 +79,10 @@ void BdptIntegrator::render_sample(const RenderContext& ctx, Point2i pixel, int 
                 L += c.L;
             // Strategy images average camera samples unweighted: the film's weighted mean is the
             // same for filters whose sampling weight is constant (every positive filter).
-            if (m_strategy_images)
-                splats.add(c.splat ? c.p_raster : Vec2(pixel.x + 0.5f, pixel.y + 0.5f), c.L,
-                           strategy_index(s, t));
+            if (m_strategy_images && c.splat)
+                splats.add(c.p_raster, c.L, strategy_index(s, t));
+            else if (m_strategy_images)
+                splats.add_to_pixel(pixel, c.L, strategy_index(s, t));
         }
     ctx.film.add_sample(pixel, L, weight);
 }

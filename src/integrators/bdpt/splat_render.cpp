@@ -5,6 +5,8 @@
 
 #include <chrono>
 
+#include "film/splat_filter.h"
+
 namespace ml {
 
 namespace {
@@ -43,6 +45,7 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
     int64_t tiles_done = 0;
     const int64_t total_tiles = int64_t(tile_count) * ((ctx.spp + pass_spp - 1) / pass_spp);
     std::vector<std::vector<Splat>> lists(kTilesPerWave);
+    const SplatFilter spread(ctx.filter, w, h, ctx.film.max_component_value());
     while (done < ctx.spp) {
         int s0 = done, s1 = std::min(ctx.spp, done + pass_spp);
         double pass_start = elapsed();
@@ -65,8 +68,15 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
             // Merge in tile order: the sums do not depend on which thread ran which tile.
             for (int i = 0; i < wave_end - wave; ++i)
                 for (const Splat& sp : lists[i]) {
-                    double* d = &sums[size_t(sp.image + 1)][size_t(sp.pixel) * 3];
-                    d[0] += sp.v.r, d[1] += sp.v.g, d[2] += sp.v.b;
+                    std::vector<double>& sum = sums[size_t(sp.image + 1)];
+                    auto add = [&](size_t pixel, const RGB& c) {
+                        double* d = &sum[pixel * 3];
+                        d[0] += c.r, d[1] += c.g, d[2] += c.b;
+                    };
+                    if (sp.spread)
+                        spread.spread(sp.p, sp.v, add);
+                    else
+                        add(size_t(sp.p.y) * size_t(w) + size_t(sp.p.x), sp.v);
                 }
             tiles_done += wave_end - wave;
             if (ctx.progress)

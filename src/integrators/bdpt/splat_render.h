@@ -13,9 +13,10 @@
 namespace ml {
 
 struct Splat {
-    uint32_t pixel = 0;
+    Vec2 p;              // raster position: spread over the pixel filter when merged
     int32_t image = -1;  // -1: the rendered image; i >= 0: extra image i
     RGB v;
+    bool spread = true;  // false: added to the pixel that holds p, as a camera sample is
 };
 
 // Where one tile's splats go.
@@ -25,10 +26,16 @@ public:
         : m_out(out), m_width(width), m_height(height) {}
     // A contribution at raster position p (pixels); dropped off the film or when not finite.
     void add(const Vec2& p, const RGB& v, int image = -1) {
-        int x = int(std::floor(p.x)), y = int(std::floor(p.y));
-        if (x < 0 || y < 0 || x >= m_width || y >= m_height || !v.is_finite() || v.is_black())
+        if (!(p.x >= 0 && p.y >= 0 && p.x < float(m_width) && p.y < float(m_height)) ||
+            !v.is_finite() || v.is_black())
             return;
-        m_out.push_back(Splat{uint32_t(y) * uint32_t(m_width) + uint32_t(x), image, v});
+        m_out.push_back(Splat{p, image, v});
+    }
+    // A camera sample's contribution to pixel `pixel` of an extra image (not spread: it was
+    // drawn from the filter, as the film's camera samples are).
+    void add_to_pixel(Point2i pixel, const RGB& v, int image) {
+        if (!v.is_finite() || v.is_black()) return;
+        m_out.push_back(Splat{Vec2(pixel.x + 0.5f, pixel.y + 0.5f), image, v, false});
     }
 
 private:

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/rng.h"
+#include "film/splat_filter.h"
 #include "integrators/mlt/bidir_mutation.h"
 #include "integrators/mlt/coherent.h"
 #include "integrators/mlt/mutations.h"
@@ -57,7 +58,7 @@ float importance_of(const RGB& c) {
 }
 
 struct Splat {
-    uint32_t pixel;
+    Vec2 p;  // raster position
     RGB v;
 };
 
@@ -142,6 +143,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     for (int c = 0; c < int(total % n_chains); ++c) ++budget[size_t(c)];
     std::vector<std::vector<Splat>> splats(static_cast<size_t>(n_chains));
     std::vector<double> sum(size_t(pixels) * 3, 0.0);
+    const SplatFilter spread(ctx.filter, w, h, ctx.film.max_component_value());
     const int64_t segment =
         std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
     int64_t done = 0;
@@ -155,9 +157,9 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
             Sampler& sampler = *samplers.local();
             std::vector<Splat>& out = splats[size_t(c)];
             auto splat = [&](const Vec2& p_raster, const RGB& v) {
-                int x = int(p_raster.x), y = int(p_raster.y);
-                if (x >= 0 && y >= 0 && x < w && y < h && !v.is_black() && v.is_finite())
-                    out.push_back(Splat{uint32_t(y * w + x), v});
+                if (p_raster.x >= 0 && p_raster.y >= 0 && p_raster.x < float(w) &&
+                    p_raster.y < float(h) && !v.is_black() && v.is_finite())
+                    out.push_back(Splat{p_raster, v});
             };
             int64_t end = std::min(budget[size_t(c)], ch.next + segment);
             for (; ch.next < end; ++ch.next) {
@@ -199,7 +201,9 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         });
         for (int c = 0; c < n_chains; ++c) {
             for (const Splat& s : splats[size_t(c)])
-                for (int k = 0; k < 3; ++k) sum[3 * size_t(s.pixel) + k] += s.v[k];
+                spread.spread(s.p, s.v, [&](size_t pixel, const RGB& v) {
+                    for (int k = 0; k < 3; ++k) sum[3 * pixel + k] += v[k];
+                });
             splats[size_t(c)].clear();
         }
         done = 0;

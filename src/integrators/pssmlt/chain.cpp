@@ -29,11 +29,11 @@ MarkovChain::MarkovChain(const PrimaryEstimator& estimator, const Bootstrap& boo
 void MarkovChain::splat(const PrimaryPathSample& s, float weight,
                         std::vector<ChainSplat>& out) const {
     if (!(weight > 0)) return;
-    int x = int(std::floor(s.p_raster.x)), y = int(std::floor(s.p_raster.y));
-    if (x < 0 || y < 0 || x >= m_width || y >= m_height) return;
+    const Vec2& p = s.p_raster;
+    if (!(p.x >= 0 && p.y >= 0 && p.x < float(m_width) && p.y < float(m_height))) return;
     RGB v = s.L * weight;
     if (!v.is_finite() || v.is_black()) return;
-    out.push_back(ChainSplat{uint32_t(y) * uint32_t(m_width) + uint32_t(x), v});
+    out.push_back(ChainSplat{p, v});
 }
 
 void MarkovChain::run(int64_t n, std::vector<ChainSplat>& out, ScratchBuffer& scratch) {

@@ -13,7 +13,7 @@ namespace ml {
 
 // A contribution to one pixel, before the image's scale b / (mutations per pixel).
 struct ChainSplat {
-    uint32_t pixel = 0;
+    Vec2 p;  // raster position
     RGB v;
 };
 

@@ -7,6 +7,7 @@
 #include <bit>
 #include <chrono>
 
+#include "film/splat_filter.h"
 #include "integrators/pssmlt/chain.h"
 
 namespace ml {
@@ -97,6 +98,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     //    limit, segments grow (at most 4x) to fill what is left of the time.
     std::vector<std::vector<ChainSplat>> splats(static_cast<size_t>(n_chains));
     std::vector<double> sum(size_t(pixels) * 3, 0.0);
+    const SplatFilter spread(ctx.filter, w, h, ctx.film.max_component_value());
     tbb::enumerable_thread_specific<ScratchBuffer> scratch;
     int64_t per_chain = std::max<int64_t>(
         1, (timed ? kFirstTimedSegmentMutations : kMaxSegmentMutations) / n_chains);
@@ -116,7 +118,9 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
         int64_t segment = 0;
         for (size_t k = 0; k < size_t(n_chains); ++k) {
             for (const ChainSplat& s : splats[k])
-                for (int c = 0; c < 3; ++c) sum[3 * size_t(s.pixel) + c] += s.v[c];
+                spread.spread(s.p, s.v, [&](size_t pixel, const RGB& v) {
+                    for (int c = 0; c < 3; ++c) sum[3 * pixel + c] += v[c];
+                });
             splats[k].clear();
             segment += ran[k];
         }
