@@ -11,12 +11,13 @@
 
 #include "film/image_metrics.h"
 #include "render_helpers.h"
+#include "shared_files.h"
 
 using namespace ml;
 
 namespace {
 
-const std::string kShared = MANYLIGHT_SHARED_DIR;
+const std::string kShared = ml::test::shared_dir();
 
 Image render_cornell(int spp) {
     RenderOptions opt;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "render_helpers.h"
+#include "shared_files.h"
 
 using namespace ml;
 
@@ -16,7 +17,7 @@ void expect_renders(const std::string& scene, int w, int h) {
     opt.height = h;
     opt.progress = false;
     RenderOutput out =
-        render_scene(parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) + "/scenes/" + scene), opt);
+        render_scene(parse_scene_file(ml::test::shared_dir() + "/scenes/" + scene), opt);
     ASSERT_EQ(out.image.width, w);
     double sum = 0;
     for (const RGB& p : out.image.pixels) {

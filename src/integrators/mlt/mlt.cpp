@@ -145,11 +145,9 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     const int64_t segment =
         std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
     int64_t done = 0;
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    auto elapsed = [&] { return ctx.elapsed(); };  // the bootstrap counts against the limit
     while (done < total) {
+        const double segment_start = elapsed();
         tbb::parallel_for(0, n_chains, [&](int c) {
             Chain& ch = chains[size_t(c)];
             Sampler& sampler = *samplers.local();
@@ -208,8 +206,8 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
             ctx.progress->set_fraction(ctx.time_limit > 0 ? elapsed() / ctx.time_limit
                                                           : double(done) / double(total));
         // Under a time limit, every chain has run the same number of mutations at the end of
-        // a segment: stop there once the time is spent.
-        if (ctx.time_limit > 0 && elapsed() >= ctx.time_limit) break;
+        // a segment: stop there when another segment would end past the time.
+        if (ctx.time_limit > 0 && elapsed() + (elapsed() - segment_start) >= ctx.time_limit) break;
     }
 
     // 4. Each mutation splatted a total of one: b * pixels / mutations scales to the image.
