@@ -34,6 +34,8 @@ Image render_cornell(int spp) {
 }  // namespace
 
 TEST(RenderReference, CornellBoxMatchesTungstenAndPbrt) {
+    ML_NEED_SHARED("scenes/cornell-box/TungstenRender.exr");
+    ML_NEED_SHARED("references/cornell-box-path-256-2048spp.exr");
     Image ours = render_cornell(128);
     Image tungsten =
         box_downsample(read_image(kShared + "/scenes/cornell-box/TungstenRender.exr"), 4);
