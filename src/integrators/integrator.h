@@ -17,6 +17,9 @@
 
 namespace ml {
 
+// Under a time limit, the Metropolis integrators' bootstraps stop once this share of it is spent.
+inline constexpr double kBootstrapTimeShare = 0.25;
+
 struct RenderContext {
     const Scene& scene;
     const PerspectiveCamera& camera;
