@@ -24,7 +24,9 @@ public:
     // Adds to the splat sum of the pixel that holds raster position p_film, from any thread
     // (atomic): contributions already spread over the filter (SplatFilter).
     void add_splat(const Vec2& p_film, RGB v);
-    float max_component_value() const { return m_max_component; }
+    // The clamp SplatFilter applies to each splat: add_splat scales by the imaging ratio
+    // afterwards, so clamping at max_component_value / imaging_ratio is pbrt-v4's clamp after it.
+    float splat_clamp() const { return m_max_component / m_imaging_ratio; }
     // The image: weighted mean per pixel, plus splats times `splat_scale`.
     Image to_image(float splat_scale = 1.f) const;
     void clear();

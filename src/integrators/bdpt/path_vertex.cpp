@@ -82,8 +82,8 @@ float PathVertex::pdf_light_origin(const BdptScene& ctx, const PathVertex& v) co
 
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {
     // Points on surfaces (lights' included) are moved off them towards each other; the lens
-    // and point lights stay put (their p_error is zero).
-    return !scene.occluded(segment_ray(a.p(), a.si.offset(), b.p(), b.si.offset(), a.si.time));
+    // and point lights stay put (PathVertex::offset).
+    return !scene.occluded(segment_ray(a.p(), a.offset(), b.p(), b.offset(), a.si.time));
 }
 
 }  // namespace ml

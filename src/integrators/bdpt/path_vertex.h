@@ -75,6 +75,9 @@ struct PathVertex {
     const Vec3& ng() const { return si.ng; }
     const Vec3& ns() const { return si.ns; }
     bool on_surface() const { return !(si.ng == Vec3()); }
+    // What a ray to or from this vertex moves it by (segment_ray): the lens, like points on no
+    // surface, stays put.
+    Vec3 offset() const { return kind == VertexKind::Camera ? Vec3() : si.offset(); }
 
     bool is_connectible() const {
         switch (kind) {

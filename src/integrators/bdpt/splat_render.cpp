@@ -45,7 +45,7 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
     int64_t tiles_done = 0;
     const int64_t total_tiles = int64_t(tile_count) * ((ctx.spp + pass_spp - 1) / pass_spp);
     std::vector<std::vector<Splat>> lists(kTilesPerWave);
-    const SplatFilter spread(ctx.filter, w, h, ctx.film.max_component_value());
+    const SplatFilter spread(ctx.filter, w, h, ctx.film.splat_clamp());
     while (done < ctx.spp) {
         int s0 = done, s1 = std::min(ctx.spp, done + pass_spp);
         double pass_start = elapsed();

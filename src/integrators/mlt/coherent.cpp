@@ -100,7 +100,7 @@ void trace_tries(const BdptScene& ctx, const MltPath& from, int j, const Vec2* u
             active[i] = false;
             continue;
         }
-        rays[i] = segment_ray(a.p(), a.si.offset(), b.p(), b.si.offset(), a.si.time);
+        rays[i] = segment_ray(a.p(), a.offset(), b.p(), b.offset(), a.si.time);
     }
     if (any(active)) occluded_packet(ctx.scene, rays, active, blocked);
 

@@ -156,7 +156,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     for (int c = 0; c < int(total % n_chains); ++c) ++budget[size_t(c)];
     std::vector<std::vector<Splat>> splats(static_cast<size_t>(n_chains));
     std::vector<double> sum(size_t(pixels) * 3, 0.0);
-    const SplatFilter spread(ctx.filter, w, h, ctx.film.max_component_value());
+    const SplatFilter spread(ctx.filter, w, h, ctx.film.splat_clamp());
     const int64_t segment =
         std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
     int64_t done = 0;

@@ -102,7 +102,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     //    limit, segments grow (at most 4x) to fill what is left of the time.
     std::vector<std::vector<ChainSplat>> splats(static_cast<size_t>(n_chains));
     std::vector<double> sum(size_t(pixels) * 3, 0.0);
-    const SplatFilter spread(ctx.filter, w, h, ctx.film.max_component_value());
+    const SplatFilter spread(ctx.filter, w, h, ctx.film.splat_clamp());
     tbb::enumerable_thread_specific<ScratchBuffer> scratch;
     int64_t per_chain = std::max<int64_t>(
         1, (timed ? kFirstTimedSegmentMutations : kMaxSegmentMutations) / n_chains);
