@@ -191,7 +191,8 @@ struct Case {
 };
 
 // For seeds 1..n: the image mean of `c.integrator` less that of `vpl`, channel by channel, both
-// rendered with the same seed (so the same gather points and the same lights). Under an unbiased
+// rendered with the same seed (so the same gather points and the same lights; --seed also draws
+// the VPLs and the representatives). Under an unbiased
 // estimator the differences are independent with mean 0.
 void expect_unbiased_against_vpl(const std::string& scene, const Case& c, int res, int spp,
                                  const std::map<std::string, std::string>& lights, int seeds = 16) {
@@ -204,7 +205,6 @@ void expect_unbiased_against_vpl(const std::string& scene, const Case& c, int re
         opt.height = res;
         opt.seed = uint64_t(seed);
         opt.set = lights;
-        opt.set["vpl.seed"] = std::to_string(seed);  // new VPLs and representatives
         opt.integrator = "vpl";
         Image exact = test::render_text(scene, opt).image;
         opt.integrator = c.integrator;

@@ -32,6 +32,11 @@ RenderOutput render_many(const std::string& integrator, SceneDesc desc, int vpls
     opt.progress = false;
     opt.set["vpl.count"] = std::to_string(vpls);
     opt.set["lights.area_count"] = "256";
+    // One VPL set and tree whatever the render's seed (vpl.seed's default before it followed
+    // --seed): the per-pixel fractions these tests check move from one VPL set to another by
+    // about as much as their margin (lightcuts at 16 spp on cornell_4096: 98.6% to 100% of
+    // pixels within 2% over 13 sets, the old and the new estimator alike).
+    opt.set["vpl.seed"] = "0";
     if (integrator == "lightcuts") {
         opt.set["lightcuts.error"] = std::to_string(cut.error);
         opt.set["lightcuts.criterion"] = cut.criterion;

@@ -27,7 +27,10 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     m.lights.vpls = m.lights.vpl_count > 0;
     m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count);
     m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
-    m.lights.seed = uint64_t(s.get_int("vpl.seed", 0));
+    int seed = s.get_int("vpl.seed", -1);  // -1: follow --seed
+    if (seed < -1) throw UsageError("vpl.seed must be >= 0 (or -1: from --seed)");
+    if (seed >= 0) m.explicit_seed = uint64_t(seed);
+    m.lights.seed = m.explicit_seed.value_or(0);
     m.clamp = s.get_float("vpl.clamp", 0.f);
     std::string direct = s.get_string("lights.direct", "points");
     if (direct == "sample")
@@ -42,6 +45,10 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
         m.lights.area_count < 1 || m.lights.env_count < 1 || m.clamp < 0)
         throw UsageError("vpl settings out of range (counts >= 1, vpl.max_depth >= 1, clamp >= 0)");
     return m;
+}
+
+void ManyLightSettings::use_render_seed(uint64_t render_seed) {
+    lights.seed = explicit_seed.value_or(render_seed);
 }
 
 VplIntegrator::VplIntegrator(const Settings& settings)
@@ -82,6 +89,7 @@ void VplIntegrator::prepare(const Scene& scene) {
 }
 
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
+    m_settings.use_render_seed(ctx.seed);
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
