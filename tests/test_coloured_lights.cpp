@@ -233,12 +233,14 @@ void expect_unbiased_against_vpl(const std::string& scene, const Case& c, int re
 // lightcuts with no error threshold and a fixed cap: every cut refines the nodes of largest
 // bound until it holds max_cut nodes. The bounds hold every representative's estimate
 // (bound_intensity), so the cut is the same whichever representatives were drawn and the image
-// is exactly unbiased. Then the default settings, and mdlightcuts, whose cuts stop where the
-// estimate is within the error: a bias below the noise here.
+// is exactly unbiased (without vpl.clamp, which caps a bound by the estimate's clamped value). Then
+// the default settings, and mdlightcuts, whose cuts stop where the estimate is within the error: a
+// bias below the noise here.
 std::vector<Case> cases() {
-    return {{"lightcuts", {{"lightcuts.error", "0"}, {"lightcuts.max_cut", "24"}}},
-            {"lightcuts", {}},
-            {"mdlightcuts", {{"mdlightcuts.samples", "16"}}}};
+    return {
+        {"lightcuts", {{"lightcuts.error", "0"}, {"lightcuts.max_cut", "24"}, {"vpl.clamp", "0"}}},
+        {"lightcuts", {}},
+        {"mdlightcuts", {{"mdlightcuts.samples", "16"}}}};
 }
 
 const std::map<std::string, std::string> kPointLightsOnly = {{"vpl.count", "0"}};

@@ -14,8 +14,8 @@ namespace ml {
 
 LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
-    m_error = settings.get_float("error", 0.02f);
-    m_max_cut = settings.get_int("max_cut", 1000);
+    m_error = settings.get_float("error", m_error);
+    m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_verify = settings.get_bool("verify", false);
     m_reps = settings.get_int("reps", kLightTreeReps);
     if (m_reps < 1 || m_reps > kLightTreeReps)

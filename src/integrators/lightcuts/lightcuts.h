@@ -1,6 +1,6 @@
 // Lightcuts (Walter et al. 2005, seed 004): the same point lights as `vpl`, clustered in a light
 // tree; at each gather point a cut through the tree is refined, always splitting the node with
-// the largest error bound, until every node's bound is below `lightcuts.error` (default 2%) of
+// the largest error bound, until every node's bound is below `lightcuts.error` (default 10%) of
 // the current estimate or the cut holds `lightcuts.max_cut` nodes. A node is shaded by its
 // representative light alone (one shadow ray), scaled by the cluster's luminance over the
 // representative's, so that its expectation is the cluster's exact sum in every channel
@@ -67,7 +67,8 @@ private:
                     const RGB& estimate) const;
 
     ManyLightSettings m_settings;
-    float m_error = 0.02f;
+    // Defaults: bench/RESULTS.md, "Issue 13: the defaults".
+    float m_error = 0.1f;
     enum class Criterion { Max, Probable, Sum } m_criterion = Criterion::Max;
     const char* criterion_name() const {
         return m_criterion == Criterion::Max ? "max"
