@@ -1,6 +1,7 @@
 // The integrator interface and the per-pixel driver most integrators share.
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -16,6 +17,9 @@
 
 namespace ml {
 
+// Under a time limit, the Metropolis integrators' bootstraps stop once this share of it is spent.
+inline constexpr double kBootstrapTimeShare = 0.25;
+
 struct RenderContext {
     const Scene& scene;
     const PerspectiveCamera& camera;
@@ -29,6 +33,14 @@ struct RenderContext {
     // with; integrators with random choices of their own (VPLs, representatives) derive theirs
     // from it.
     uint64_t seed = 0;
+    // When rendering began: the time limit counts from here, preparation (VPLs, trees) included.
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+
+    double elapsed() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    // True once a time limit is spent: loops stop starting work then.
+    bool out_of_time() const { return time_limit > 0 && elapsed() >= time_limit; }
 };
 
 struct RenderResult {

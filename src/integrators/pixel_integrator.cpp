@@ -42,25 +42,33 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
     });
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    auto elapsed = [&] { return ctx.elapsed(); };
 
     // Passes of samples [s0, s1): one pass for a fixed count; doubling passes under a time
     // limit, each started only if it is expected to end in time.
     int done = 0;
     int pass_spp = ctx.time_limit > 0 ? 1 : ctx.spp;
     std::atomic<int64_t> rows_done{0};
+    std::atomic<bool> cut_short{false};
     const int64_t total_rows = int64_t(h) * ctx.spp;
     while (done < ctx.spp) {
         int s0 = done, s1 = std::min(ctx.spp, done + pass_spp);
         double pass_start = elapsed();
         tbb::parallel_for(
             tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
+                // Past the time limit no tile starts: the contract is the time, even when one
+                // pass takes longer (the film's weights keep the pixels' means right).
+                if (ctx.out_of_time()) {
+                    cut_short = true;
+                    return;
+                }
                 ThreadState& ts = states.local();
                 Sampler& sampler = *ts.sampler;
                 for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+                    if (y > r.rows().begin() && ctx.out_of_time()) {
+                        cut_short = true;
+                        return;
+                    }
                     for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
                         Point2i pixel{x, y};
                         for (int s = s0; s < s1; ++s) {
@@ -81,6 +89,7 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
                     }
                 }
             });
+        if (cut_short) break;  // the pass was cut short: it does not count
         done = s1;
         if (ctx.time_limit > 0) {
             pass_spp = next_round_size(s1 - s0, elapsed() - pass_start, elapsed(), ctx.time_limit);

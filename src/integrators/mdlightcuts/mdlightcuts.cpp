@@ -62,10 +62,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
     });
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    auto elapsed = [&] { return ctx.elapsed(); };
 
     // Rounds of passes [p0, p1): all passes at once for a sample count; under a time limit,
     // rounds sized (at most 4x the last) to end in time, as PixelIntegrator does with samples.
@@ -73,14 +70,23 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     int done = 0;
     int round = ctx.time_limit > 0 ? 1 : passes;
     std::atomic<int64_t> rows_done{0};
+    std::atomic<bool> cut_short{false};
     const int64_t total_rows = int64_t(h) * passes;
     while (done < passes) {
         int p0 = done, p1 = std::min(passes, done + round);
         double round_start = elapsed();
         tbb::parallel_for(
             tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
+                if (ctx.out_of_time()) {
+                    cut_short = true;
+                    return;
+                }  // as PixelIntegrator: the time limit holds
                 ThreadState& ts = states.local();
                 for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
+                    if (y > r.rows().begin() && ctx.out_of_time()) {
+                        cut_short = true;
+                        return;
+                    }
                     for (int x = r.cols().begin(); x < r.cols().end(); ++x)
                         for (int p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, {x, y}, p);
                     if (ctx.progress) {
@@ -92,6 +98,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
                     }
                 }
             });
+        if (cut_short) break;  // the round was cut short: it does not count
         done = p1;
         if (ctx.time_limit > 0) {
             round = next_round_size(p1 - p0, elapsed() - round_start, elapsed(), ctx.time_limit);

@@ -96,22 +96,35 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
 
     // 1. Bootstrap: per depth, independent BDPT paths; b is the sum over depths of the mean
     //    luminance of f / q.
-    std::vector<float> weight(size_t(m_bootstrap) * depths, 0.f);
-    tbb::parallel_for(0, m_bootstrap, [&](int i) {
-        Sampler& sampler = *samplers.local();
-        ScratchBuffer& scratch = scratches.local();
-        for (int d = 0; d < depths; ++d) {
-            sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
-            int strategy = -1;
-            if (auto x = sample_bdpt_path(bctx, sampler, d, scratch, &strategy))
-                weight[size_t(i) * depths + d] = importance_of(proposal_weight(bctx, *x, strategy));
-            scratch.reset();
+    //    Under a time limit, in chunks, keeping the paths done once its share of the time is
+    //    spent: any prefix of the paths is as valid a bootstrap.
+    int n_bootstrap = m_bootstrap;
+    std::vector<float> weight(size_t(n_bootstrap) * depths, 0.f);
+    const int chunk = ctx.time_limit > 0 ? 4096 : n_bootstrap;
+    for (int i0 = 0; i0 < n_bootstrap; i0 += chunk) {
+        const int i1 = std::min(n_bootstrap, i0 + chunk);
+        tbb::parallel_for(i0, i1, [&](int i) {
+            Sampler& sampler = *samplers.local();
+            ScratchBuffer& scratch = scratches.local();
+            for (int d = 0; d < depths; ++d) {
+                sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
+                int strategy = -1;
+                if (auto x = sample_bdpt_path(bctx, sampler, d, scratch, &strategy))
+                    weight[size_t(i) * depths + d] =
+                        importance_of(proposal_weight(bctx, *x, strategy));
+                scratch.reset();
+            }
+        });
+        if (i1 < n_bootstrap && ctx.time_limit > 0 &&
+            ctx.elapsed() > kBootstrapTimeShare * ctx.time_limit) {
+            n_bootstrap = i1;
+            weight.resize(size_t(n_bootstrap) * depths);
         }
-    });
+    }
     std::vector<double> cdf(weight.size());
     double acc = 0;
     for (size_t i = 0; i < weight.size(); ++i) cdf[i] = acc += weight[i];
-    const double b = acc / m_bootstrap;
+    const double b = acc / n_bootstrap;
     if (!(b > 0)) return result;
 
     // 2. Chains start at bootstrap paths picked in proportion to their luminance.
@@ -145,11 +158,9 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     const int64_t segment =
         std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
     int64_t done = 0;
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    auto elapsed = [&] { return ctx.elapsed(); };  // the bootstrap counts against the limit
     while (done < total) {
+        const double segment_start = elapsed();
         tbb::parallel_for(0, n_chains, [&](int c) {
             Chain& ch = chains[size_t(c)];
             Sampler& sampler = *samplers.local();
@@ -208,8 +219,8 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
             ctx.progress->set_fraction(ctx.time_limit > 0 ? elapsed() / ctx.time_limit
                                                           : double(done) / double(total));
         // Under a time limit, every chain has run the same number of mutations at the end of
-        // a segment: stop there once the time is spent.
-        if (ctx.time_limit > 0 && elapsed() >= ctx.time_limit) break;
+        // a segment: stop there when another segment would end past the time.
+        if (ctx.time_limit > 0 && elapsed() + (elapsed() - segment_start) >= ctx.time_limit) break;
     }
 
     // 4. Each mutation splatted a total of one: b * pixels / mutations scales to the image.

@@ -61,7 +61,10 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     auto estimator = make_primary_estimator(m_estimator, ctx.scene, ctx.camera, m_max_depth);
 
     // 1. Bootstrap: the image's mean luminance b and the chains' starting paths.
-    Bootstrap bootstrap(*estimator, params, m_bootstrap);
+    // Under a time limit the bootstrap takes at most its share of the time.
+    std::function<bool()> bootstrap_stop;
+    if (timed) bootstrap_stop = [&] { return elapsed() > kBootstrapTimeShare * ctx.time_limit; };
+    Bootstrap bootstrap(*estimator, params, m_bootstrap, bootstrap_stop);
     double seconds_bootstrap = elapsed();
     RenderResult result;
     auto stats_json = [&](int64_t mutations, int64_t accepted, int64_t chains) {
@@ -70,9 +73,10 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
             "\"bootstrap\": {}, \"chains\": {}, \"mutations\": {}, "
             "\"mutations_per_pixel\": {:.4g}, \"acceptance\": {:.4f}, "
             "\"large_step_prob\": {}, \"sigma\": {}, \"seconds_bootstrap\": {:.3f}}}",
-            m_estimator, bootstrap.b(), bootstrap.b_stderr(), m_bootstrap, chains, mutations,
-            double(mutations) / double(pixels), mutations ? double(accepted) / mutations : 0.0,
-            params.large_step_prob, params.sigma, seconds_bootstrap);
+            m_estimator, bootstrap.b(), bootstrap.b_stderr(), bootstrap.paths_per_stratum(), chains,
+            mutations, double(mutations) / double(pixels),
+            mutations ? double(accepted) / mutations : 0.0, params.large_step_prob, params.sigma,
+            seconds_bootstrap);
     };
     if (!(bootstrap.b() > 0)) {
         // No path carries light: the image is black, whatever the budget.
