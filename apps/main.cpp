@@ -8,7 +8,6 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "integrators/settings.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"manylight: a many-light renderer (pbrt-v4 scenes in, images out)"};

@@ -10,7 +10,7 @@
 #include "commands.h"
 #include "integrators/registry.h"
 #include "integrators/render_job.h"
-#include "integrators/settings.h"
+#include "render/settings.h"
 #include "scene/default_scene.h"
 #include "scene/scene_desc.h"
 

@@ -7,10 +7,11 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "camera/camera.h"
 #include "core/rng.h"
 #include "integrators/mdlightcuts/product_cut.h"
-#include "integrators/settings.h"
 #include "manylight/gather_tree.h"
+#include "render/settings.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "integrators/settings.h"
+#include "render/settings.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 

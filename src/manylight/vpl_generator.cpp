@@ -6,13 +6,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "integrators/common.h"
 #include "lights/light_sampler.h"
 #include "manylight/point_light_set.h"
 #include "materials/material.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 #include "scene/scene.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 namespace {

@@ -32,7 +32,7 @@ public:
 };
 
 // "independent", "stratified", "sobol" (Owen-scrambled, padded 2D Sobol'): throws
-// std::invalid_argument for an unknown name.
+// UsageError for an unknown name.
 std::unique_ptr<Sampler> create_sampler(const std::string& name, int spp, uint64_t seed);
 
 }  // namespace ml

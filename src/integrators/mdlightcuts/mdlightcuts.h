@@ -17,13 +17,13 @@
 #include <atomic>
 #include <vector>
 
-#include "integrators/integrator.h"
 #include "integrators/mdlightcuts/product_cut.h"
-#include "integrators/settings.h"
-#include "integrators/vpl/vpl.h"
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
+#include "manylight/many_lights.h"
 #include "manylight/point_light_set.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

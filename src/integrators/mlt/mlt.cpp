@@ -130,7 +130,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
         int strategy = -1;
         auto x = sample_bdpt_path(bctx, sampler, d, *ch.current, &strategy);
-        if (!x) throw std::logic_error(name() + ": a bootstrap path could not be made again");
+        if (!x) throw InternalError(name() + ": a bootstrap path could not be made again");
         ch.x = std::move(*x);
         ch.W = proposal_weight(bctx, ch.x, strategy);
         ch.colour = ch.W / importance_of(ch.W);

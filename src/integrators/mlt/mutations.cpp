@@ -2,11 +2,11 @@
 
 #include <thread>
 
-#include "integrators/bdpt/connect.h"
-#include "integrators/bdpt/subpaths.h"
-#include "integrators/common.h"
+#include "bidir/connect.h"
+#include "bidir/subpaths.h"
 #include "materials/material.h"
 #include "sampling/warps.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 

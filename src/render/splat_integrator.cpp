@@ -1,4 +1,4 @@
-#include "integrators/bdpt/splat_render.h"
+#include "render/splat_integrator.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>

@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "core/stats.h"
-#include "integrators/integrator.h"
+#include "render/integrator.h"
 
 namespace ml {
 
