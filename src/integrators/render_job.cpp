@@ -1,12 +1,11 @@
 #include "integrators/render_job.h"
 
 #include <fmt/format.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <chrono>
 
 #include "camera/camera.h"
+#include "core/parallel.h"
 #include "core/stats.h"
 #include "film/film.h"
 #include "film/filter.h"
@@ -110,8 +109,8 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     auto sampler = create_sampler(sampler_name, spp, seed);
 
     // Threads, scene build, render.
-    int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    int threads = opt.threads > 0 ? opt.threads : default_thread_count();
+    ThreadLimit limit(threads);
     auto t_build = std::chrono::steady_clock::now();
     Scene scene(std::move(desc));
     fig.seconds_build = seconds_since(t_build);

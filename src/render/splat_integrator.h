@@ -9,32 +9,9 @@
 #include <vector>
 
 #include "render/integrator.h"
+#include "render/splats.h"
 
 namespace ml {
-
-struct Splat {
-    uint32_t pixel = 0;
-    int32_t image = -1;  // -1: the rendered image; i >= 0: extra image i
-    RGB v;
-};
-
-// Where one tile's splats go.
-class SplatList {
-public:
-    SplatList(std::vector<Splat>& out, int width, int height)
-        : m_out(out), m_width(width), m_height(height) {}
-    // A contribution at raster position p (pixels); dropped off the film or when not finite.
-    void add(const Vec2& p, const RGB& v, int image = -1) {
-        int x = int(std::floor(p.x)), y = int(std::floor(p.y));
-        if (x < 0 || y < 0 || x >= m_width || y >= m_height || !v.is_finite() || v.is_black())
-            return;
-        m_out.push_back(Splat{uint32_t(y) * uint32_t(m_width) + uint32_t(x), image, v});
-    }
-
-private:
-    std::vector<Splat>& m_out;
-    int m_width, m_height;
-};
 
 class SplatIntegrator : public Integrator {
 public:

@@ -1,7 +1,9 @@
 // create_sampler: the names a scene or the command line may ask for.
+#include <bit>
 #include <cmath>
-#include "core/error.h"
 
+#include "core/error.h"
+#include "core/rng.h"
 #include "sampling/samplers.h"
 
 namespace ml {
@@ -17,6 +19,15 @@ std::unique_ptr<Sampler> create_sampler(const std::string& name, int spp, uint64
     if (name == "sobol" || name == "paddedsobol" || name == "zsobol")
         return make_sobol_sampler(spp, seed);
     throw UsageError("unknown sampler \"" + name + "\"");
+}
+
+uint64_t seed_from(const Sampler& prototype) {
+    auto s = prototype.clone();
+    s->start_pixel_sample(Point2i{0, 0}, 0, 0);
+    uint32_t a = std::bit_cast<uint32_t>(s->get_1d());
+    uint32_t b = std::bit_cast<uint32_t>(s->get_1d());
+    uint32_t c = std::bit_cast<uint32_t>(s->get_1d());
+    return hash_ints(a, b, c);
 }
 
 }  // namespace ml

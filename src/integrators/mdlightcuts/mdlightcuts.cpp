@@ -1,17 +1,16 @@
 #include "integrators/mdlightcuts/mdlightcuts.h"
 
 #include <fmt/format.h>
-#include <tbb/blocked_range2d.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
 
+#include "core/parallel.h"
 #include "core/stats.h"
 #include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
+#include "render/render_loop.h"
 
 namespace ml {
 
@@ -52,51 +51,24 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 }
 
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
+    Stopwatch clock;
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
     m_pixel_passes_done.assign(m_pixel_pairs.size(), 0);
     m_pair_sum = 0, m_pixel_passes = 0, m_gather_points = 0, m_gather_tree_ns = 0, m_pair_max = 0;
     m_capped = 0;
-    tbb::enumerable_thread_specific<ThreadState> states([&] {
+    ThreadLocal<ThreadState> states([&] {
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
     });
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
-
-    // Rounds of passes [p0, p1): all passes at once for a sample count; under a time limit,
-    // rounds sized (at most 4x the last) to end in time, as PixelIntegrator does with samples.
+    // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
+    // takes samples).
     const int passes = (ctx.spp + m_samples - 1) / m_samples;
-    int done = 0;
-    int round = ctx.time_limit > 0 ? 1 : passes;
-    std::atomic<int64_t> rows_done{0};
-    const int64_t total_rows = int64_t(h) * passes;
-    while (done < passes) {
-        int p0 = done, p1 = std::min(passes, done + round);
-        double round_start = elapsed();
-        tbb::parallel_for(
-            tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
-                ThreadState& ts = states.local();
-                for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
-                    for (int x = r.cols().begin(); x < r.cols().end(); ++x)
-                        for (int p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, {x, y}, p);
-                    if (ctx.progress) {
-                        int64_t n = int64_t(p1 - p0) * r.cols().size() / w;
-                        int64_t rd = rows_done.fetch_add(n) + n;
-                        ctx.progress->set_fraction(ctx.time_limit > 0
-                                                       ? elapsed() / ctx.time_limit
-                                                       : double(rd) / double(total_rows));
-                    }
-                }
-            });
-        done = p1;
-        if (ctx.time_limit > 0) {
-            round = next_round_size(p1 - p0, elapsed() - round_start, elapsed(), ctx.time_limit);
-            if (round < 1) break;
-        }
-    }
+    const int done =
+        int(render_pixels(ctx, clock, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
+            ThreadState& ts = states.local();
+            for (int64_t p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, pixel, int(p));
+        }));
 
     RenderResult result;
     result.spp = done * m_samples;

@@ -1,18 +1,17 @@
 #include "integrators/mlt/mlt.h"
 
 #include <fmt/format.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <numeric>
 
-#include "core/rng.h"
+#include "core/parallel.h"
 #include "integrators/mlt/bidir_mutation.h"
 #include "integrators/mlt/coherent.h"
 #include "integrators/mlt/mutations.h"
 #include "lights/light_sampler.h"
+#include "render/render_loop.h"
+#include "render/splats.h"
 
 namespace ml {
 
@@ -43,23 +42,15 @@ namespace {
 // Streams of the chains' sampler: bootstrap paths and chain mutations never share numbers.
 constexpr int kBootstrapRow = 1 << 20;
 
-// The render's seed, read through its sampler: the first numbers of pixel (0, 0).
-uint64_t seed_from(const Sampler& prototype) {
-    auto s = prototype.clone();
-    s->start_pixel_sample(Point2i{0, 0}, 0, 0);
-    uint64_t a = uint64_t(s->get_1d() * 16777216.f), c = uint64_t(s->get_1d() * 16777216.f);
-    return hash_ints(a, c);
-}
+// Mutations per segment: chains run a segment in parallel, then their splats are summed in
+// chain order. Bounds the splat lists (three per mutation at most, 20 bytes each).
+constexpr int64_t kMaxSegmentMutations = int64_t(1) << 20;
+constexpr int64_t kFirstTimedSegmentMutations = int64_t(1) << 14;
 
 float importance_of(const RGB& c) {
     float y = c.luminance();
     return std::isfinite(y) && y > 0 ? y : 0.f;
 }
-
-struct Splat {
-    uint32_t pixel;
-    RGB v;
-};
 
 // One chain: its current path (BSDFs in one of two scratch buffers; proposals are made in the
 // other, and the buffers trade places when a proposal is accepted).
@@ -78,6 +69,7 @@ struct Chain {
 }  // namespace
 
 RenderResult MltIntegrator::render(const RenderContext& ctx) {
+    Stopwatch clock;
     for (const auto& l : ctx.scene.lights())
         if (l->type() == LightType::Infinite || l->type() == LightType::DeltaDirection)
             throw UsageError(name() + ": environment and distant lights are not supported");
@@ -88,16 +80,15 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     const int depths = m_max_depth + 1;
     // Chains draw many numbers per path: an independent sampler seeded from the render's.
     auto prototype = create_sampler("independent", 1, seed_from(ctx.sampler));
-    tbb::enumerable_thread_specific<std::unique_ptr<Sampler>> samplers(
-        [&] { return prototype->clone(); });
-    tbb::enumerable_thread_specific<ScratchBuffer> scratches;
+    ThreadLocal<std::unique_ptr<Sampler>> samplers([&] { return prototype->clone(); });
+    ThreadLocal<ScratchBuffer> scratches;
     RenderResult result;
     result.spp = ctx.spp;
 
     // 1. Bootstrap: per depth, independent BDPT paths; b is the sum over depths of the mean
     //    luminance of f / q.
     std::vector<float> weight(size_t(m_bootstrap) * depths, 0.f);
-    tbb::parallel_for(0, m_bootstrap, [&](int i) {
+    parallel_for(0, m_bootstrap, [&](int i) {
         Sampler& sampler = *samplers.local();
         ScratchBuffer& scratch = scratches.local();
         for (int d = 0; d < depths; ++d) {
@@ -140,28 +131,22 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     //    order afterwards, so the image does not depend on the schedule.
     std::vector<int64_t> budget(static_cast<size_t>(n_chains), total / n_chains);
     for (int c = 0; c < int(total % n_chains); ++c) ++budget[size_t(c)];
-    std::vector<std::vector<Splat>> splats(static_cast<size_t>(n_chains));
-    std::vector<double> sum(size_t(pixels) * 3, 0.0);
-    const int64_t segment =
-        std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
-    int64_t done = 0;
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
-    while (done < total) {
-        tbb::parallel_for(0, n_chains, [&](int c) {
+    std::vector<std::vector<Splat>> lists(static_cast<size_t>(n_chains));
+    SplatSums sums(w, h);
+    RoundPlan plan;
+    plan.total = total;
+    plan.most = std::max<int64_t>(1, kMaxSegmentMutations / n_chains) * n_chains;
+    plan.first_timed = std::max<int64_t>(1, kFirstTimedSegmentMutations / n_chains) * n_chains;
+    const int64_t done = run_rounds(ctx, clock, plan, [&](int64_t done_before, int64_t units) {
+        const int64_t per_chain = units / n_chains;
+        if (per_chain < 1) return int64_t(0);
+        run_and_merge(0, n_chains, lists, sums, [&](int64_t c, SplatList& splats) {
             Chain& ch = chains[size_t(c)];
             Sampler& sampler = *samplers.local();
-            std::vector<Splat>& out = splats[size_t(c)];
-            auto splat = [&](const Vec2& p_raster, const RGB& v) {
-                int x = int(p_raster.x), y = int(p_raster.y);
-                if (x >= 0 && y >= 0 && x < w && y < h && !v.is_black() && v.is_finite())
-                    out.push_back(Splat{uint32_t(y * w + x), v});
-            };
-            int64_t end = std::min(budget[size_t(c)], ch.next + segment);
+            int64_t end = std::min(budget[size_t(c)], ch.next + per_chain);
             for (; ch.next < end; ++ch.next) {
-                sampler.start_pixel_sample(Point2i{c, 0}, int(ch.next % (int64_t(1) << 30)), 0);
+                sampler.start_pixel_sample(Point2i{int(c), 0}, int(ch.next % (int64_t(1) << 30)),
+                                           0);
                 ch.spare->reset();
                 float u = sampler.get_1d();
                 std::optional<Proposal> p;
@@ -183,10 +168,11 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 ++ch.chosen_by[kind];
                 float a = p ? p->accept : 0.f, share = p && p->n_tries ? p->tries_share : a;
                 if (p && p->n_tries)
-                    for (int i = 0; i < p->n_tries; ++i) splat(p->tries[i].p_raster, p->tries[i].v);
+                    for (int i = 0; i < p->n_tries; ++i)
+                        splats.add(p->tries[i].p_raster, p->tries[i].v);
                 else if (p)
-                    splat(p->y.p_raster, p->colour * a);
-                splat(ch.x.p_raster, ch.colour * (1 - share));
+                    splats.add(p->y.p_raster, p->colour * a);
+                splats.add(ch.x.p_raster, ch.colour * (1 - share));
                 if (p && sampler.get_1d() < a) {
                     ch.x = std::move(p->y);
                     ch.colour = p->colour;
@@ -197,28 +183,13 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 }
             }
         });
-        for (int c = 0; c < n_chains; ++c) {
-            for (const Splat& s : splats[size_t(c)])
-                for (int k = 0; k < 3; ++k) sum[3 * size_t(s.pixel) + k] += s.v[k];
-            splats[size_t(c)].clear();
-        }
-        done = 0;
-        for (int c = 0; c < n_chains; ++c) done += chains[size_t(c)].next;
-        if (ctx.progress)
-            ctx.progress->set_fraction(ctx.time_limit > 0 ? elapsed() / ctx.time_limit
-                                                          : double(done) / double(total));
-        // Under a time limit, every chain has run the same number of mutations at the end of
-        // a segment: stop there once the time is spent.
-        if (ctx.time_limit > 0 && elapsed() >= ctx.time_limit) break;
-    }
+        int64_t now = 0;
+        for (const Chain& ch : chains) now += ch.next;
+        return now - done_before;
+    });
 
     // 4. Each mutation splatted a total of one: b * pixels / mutations scales to the image.
-    const double scale = b * double(pixels) / double(done);
-    for (int64_t p = 0; p < pixels; ++p) {
-        RGB v(float(sum[3 * size_t(p)] * scale), float(sum[3 * size_t(p) + 1] * scale),
-              float(sum[3 * size_t(p) + 2] * scale));
-        if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
-    }
+    sums.add_to_film(ctx.film, b * double(pixels) / double(done));
     int64_t accepted = 0, chosen_by[4] = {0, 0, 0, 0}, accepted_by[4] = {0, 0, 0, 0};
     for (const Chain& c : chains) {
         accepted += c.accepted;

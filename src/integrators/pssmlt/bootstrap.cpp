@@ -1,10 +1,9 @@
 #include "integrators/pssmlt/bootstrap.h"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "core/parallel.h"
 
 namespace ml {
 
@@ -18,17 +17,16 @@ Bootstrap::Bootstrap(const PrimaryEstimator& estimator, const MltParams& params,
     const size_t depths = size_t(estimator.depth_count());
     const size_t count = size_t(n) * depths;
     std::vector<float> importance(count, 0.f);
-    tbb::enumerable_thread_specific<ScratchBuffer> scratch;
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
-            ScratchBuffer& buf = scratch.local();
-            for (size_t i = r.begin(); i < r.end(); ++i) {
-                MltSampler sampler = bootstrap_sampler(params, estimator, i);
-                int depth = int(i % depths);
-                importance[i] = mlt_importance(estimator.sample(sampler, depth, buf).L);
-                buf.reset();
-            }
-        });
+    ThreadLocal<ScratchBuffer> scratch;
+    parallel_for_chunks(size_t(0), count, size_t(256), [&](size_t begin, size_t end) {
+        ScratchBuffer& buf = scratch.local();
+        for (size_t i = begin; i < end; ++i) {
+            MltSampler sampler = bootstrap_sampler(params, estimator, i);
+            int depth = int(i % depths);
+            importance[i] = mlt_importance(estimator.sample(sampler, depth, buf).L);
+            buf.reset();
+        }
+    });
     // The running sums run stratum by stratum (position d * n + i holds path i of stratum d),
     // so chains started at evenly spread positions split over the strata in proportion to
     // their brightness. Summed in a fixed order: the same b whatever the schedule.
