@@ -88,7 +88,7 @@ bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex&
         return offset ? v.si.offset_origin(towards - v.p()) : v.p();
     };
     Vec3 pa = origin(a, b.p()), pb = origin(b, a.p());
-    return !scene.occluded(Ray{pa, pb - pa, 1.f - 1e-4f});
+    return !scene.occluded(Ray{pa, pb - pa, 1.f - kShadowEpsilon});
 }
 
 }  // namespace ml

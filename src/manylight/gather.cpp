@@ -49,7 +49,7 @@ bool point_light_contribution(const PointLightSet& set, const PointLight& pl, co
         if (I.is_black()) return false;
         I = I / d2;
         Vec3 o = si.offset_origin(wi);
-        *shadow = Ray{o, pl.p - o, 1.f - 1e-4f, si.time};
+        *shadow = Ray{o, pl.p - o, 1.f - kShadowEpsilon, si.time};
     }
     RGB f = g.bsdf.eval(si.wo, wi) * abs_dot(wi, si.ns);
     if (f.is_black()) return false;

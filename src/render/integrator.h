@@ -1,6 +1,8 @@
 // The integrator interface and the per-pixel driver most integrators share.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <map>
 #include <memory>
 #include <string>
@@ -30,7 +32,8 @@ struct RenderContext {
 struct RenderResult {
     int spp = 0;                        // samples per pixel actually taken
     size_t point_lights = 0, vpls = 0;  // many-light integrators: the point-light set
-    std::string extra_json;             // more --stats members, e.g. "\"lightcuts\": {...}"
+    // More --stats members, by name: the integrator's figures, e.g. {"lightcuts": {...}}.
+    nlohmann::json stats = nlohmann::json::object();
     std::map<std::string, Image> aovs;  // extra images by name (e.g. "cutsize")
     // Images always written beside the output as OUT.NAME.exr (debugging output an integrator
     // was asked for through its settings, e.g. bdpt.strategy_images).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include "core/assert.h"
 #include "core/parallel.h"
 
 namespace ml {
@@ -37,6 +38,7 @@ int64_t run_rounds(const RenderContext& ctx, const Stopwatch& clock, const Round
     while (done < plan.total && units > 0) {
         double round_start = clock.seconds();
         int64_t ran = round(done, units);
+        ML_ASSERT(ran >= 0 && ran <= units, "a round ran more units than it was given");
         if (ran == 0) break;
         done += ran;
         report_progress(ctx, clock, double(done) / double(plan.total));

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/assert.h"
 #include "core/color.h"
 #include "core/math.h"
 #include "core/parallel.h"
@@ -54,6 +55,9 @@ public:
     // Adds a list's splats in list order.
     void add(const std::vector<Splat>& list) {
         for (const Splat& s : list) {
+            ML_ASSERT(s.image >= -1 && size_t(s.image + 1) < m_sums.size() &&
+                          s.pixel < uint32_t(m_width) * uint32_t(m_height),
+                      "a splat outside the sums");
             double* d = &m_sums[size_t(s.image + 1)][size_t(s.pixel) * 3];
             for (int c = 0; c < 3; ++c) d[c] += s.v[c];
         }

@@ -38,7 +38,7 @@ public:
         Vec3 o = si.offset_origin(p - si.p);
         // An unnormalised direction: t in (0, 1) spans the segment, shortened at the far end
         // so the light's own surface does not block it.
-        return !m_embree->occluded(Ray{o, p - o, 1.f - 1e-4f});
+        return !m_embree->occluded(Ray{o, p - o, 1.f - kShadowEpsilon});
     }
 
     const std::vector<std::unique_ptr<Light>>& lights() const { return m_desc.lights; }

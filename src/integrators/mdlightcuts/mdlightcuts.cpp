@@ -74,7 +74,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.spp = done * m_samples;
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
-    result.extra_json = figures_json(ctx, done);
+    result.stats["mdlightcuts"] = figures_json(ctx, done);
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning = capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set);
     if (!warning.empty()) result.warnings.push_back(warning);
@@ -167,27 +167,32 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     ++m_pixel_passes_done[i];
 }
 
-std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {
+nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {
     double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
     double pixels = double(ctx.film.width()) * ctx.film.height();
     double shadow = double(stats::total().shadow);
-    return fmt::format(
-        "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"criterion\": \"{}\", "
-        "\"max_cut\": {}, \"tighten\": {}, \"passes\": {}, "
-        "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"capped_fraction\": {:.4f}, "
-        "\"gather_points_per_pixel_pass\": "
-        "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
-        "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
-        "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
-        "\"glossy\": {}, "
-        "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
-        m_samples, m_error, m_criterion == CutCriterion::Max ? "max" : "sum", m_max_cut, m_tighten,
-        passes, double(m_pair_sum.load()) / pixel_passes, m_pair_max.load(),
-        double(m_capped.load()) / pixel_passes, double(m_gather_points.load()) / pixel_passes,
-        shadow / pixels, shadow / pixel_passes, m_tree_seconds,
-        double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni, m_set.oriented,
-        m_set.directional, m_set.glossy, m_set.light_paths, m_direct.empty() ? "points" : "sample",
-        m_direct.empty() ? 0 : m_direct.samples());
+    return {{"samples", m_samples},
+            {"error", m_error},
+            {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
+            {"max_cut", m_max_cut},
+            {"tighten", m_tighten},
+            {"passes", passes},
+            {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
+            {"max_cut_size", m_pair_max.load()},
+            {"capped_fraction", double(m_capped.load()) / pixel_passes},
+            {"gather_points_per_pixel_pass", double(m_gather_points.load()) / pixel_passes},
+            {"shadow_rays_per_pixel", shadow / pixels},
+            {"shadow_rays_per_pixel_pass", shadow / pixel_passes},
+            {"tree_build_seconds", m_tree_seconds},
+            {"gather_tree_seconds", double(m_gather_tree_ns.load()) * 1e-9},
+            {"point_light_seconds", m_set.seconds},
+            {"omni", m_set.omni},
+            {"oriented", m_set.oriented},
+            {"directional", m_set.directional},
+            {"glossy", m_set.glossy},
+            {"light_paths", m_set.light_paths},
+            {"direct", m_direct.empty() ? "points" : "sample"},
+            {"direct_samples", m_direct.empty() ? 0 : m_direct.samples()}};
 }
 
 }  // namespace ml

@@ -39,7 +39,7 @@ private:
     // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1) added to the film.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                            int pass) const;
-    std::string figures_json(const RenderContext& ctx, int passes) const;
+    nlohmann::json figures_json(const RenderContext& ctx, int passes) const;
 
     ManyLightSettings m_settings;
     int m_samples = 16;

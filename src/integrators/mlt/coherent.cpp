@@ -105,7 +105,7 @@ void trace_tries(const BdptScene& ctx, const MltPath& from, int j, const Vec2* u
             return offset ? v.si.offset_origin(towards - v.p()) : v.p();
         };
         Vec3 pa = origin(a, b.p()), pb = origin(b, a.p());
-        rays[i] = Ray{pa, pb - pa, 1.f - 1e-4f};
+        rays[i] = Ray{pa, pb - pa, 1.f - kShadowEpsilon};
     }
     if (any(active)) occluded_packet(ctx.scene, rays, active, blocked);
 

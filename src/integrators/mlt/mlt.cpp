@@ -1,7 +1,5 @@
 #include "integrators/mlt/mlt.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <numeric>
 
@@ -200,18 +198,19 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     // Per mutation: how often it was chosen and the share of those accepted ("bidirectional" is
     // the partial one, "whole" the whole-path replacement).
     const char* names[4] = {"bidirectional", "lens", "caustic", "whole"};
-    std::string proposed, acceptance;
+    nlohmann::json proposed = nlohmann::json::object(), acceptance = nlohmann::json::object();
     for (int k = 0; k < 4; ++k) {
-        proposed += fmt::format("{}\"{}\": {}", k ? ", " : "", names[k], chosen_by[k]);
-        acceptance += fmt::format("{}\"{}\": {:.4f}", k ? ", " : "", names[k],
-                                  rate(accepted_by[k], chosen_by[k]));
+        proposed[names[k]] = chosen_by[k];
+        acceptance[names[k]] = rate(accepted_by[k], chosen_by[k]);
     }
-    result.extra_json = fmt::format(
-        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}, "
-        "\"bidirectional\": \"{}\", \"whole_prob\": {}, \"proposed\": {{{}}}, "
-        "\"acceptance_by_mutation\": {{{}}}}}",
-        name(), b, n_chains, done, rate(accepted, done), m_partial ? "partial" : "whole",
-        m_partial ? m_whole_prob : 1.f, proposed, acceptance);
+    result.stats[name()] = {{"b", b},
+                            {"chains", n_chains},
+                            {"mutations", done},
+                            {"acceptance", rate(accepted, done)},
+                            {"bidirectional", m_partial ? "partial" : "whole"},
+                            {"whole_prob", m_partial ? m_whole_prob : 1.f},
+                            {"proposed", proposed},
+                            {"acceptance_by_mutation", acceptance}};
     result.spp = int(done / pixels);
     return result;
 }

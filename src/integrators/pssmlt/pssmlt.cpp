@@ -1,7 +1,5 @@
 #include "integrators/pssmlt/pssmlt.h"
 
-#include <fmt/format.h>
-
 #include "core/parallel.h"
 #include "integrators/pssmlt/chain.h"
 #include "render/render_loop.h"
@@ -49,19 +47,23 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     double seconds_bootstrap = clock.seconds();
     RenderResult result;
     auto stats_json = [&](int64_t mutations, int64_t accepted, int64_t chains) {
-        return fmt::format(
-            "\"pssmlt\": {{\"estimator\": \"{}\", \"b\": {:.6g}, \"b_stderr\": {:.4g}, "
-            "\"bootstrap\": {}, \"chains\": {}, \"mutations\": {}, "
-            "\"mutations_per_pixel\": {:.4g}, \"acceptance\": {:.4f}, "
-            "\"large_step_prob\": {}, \"sigma\": {}, \"seconds_bootstrap\": {:.3f}}}",
-            m_estimator, bootstrap.b(), bootstrap.b_stderr(), m_bootstrap, chains, mutations,
-            double(mutations) / double(pixels), mutations ? double(accepted) / mutations : 0.0,
-            params.large_step_prob, params.sigma, seconds_bootstrap);
+        return nlohmann::json{
+            {"estimator", m_estimator},
+            {"b", bootstrap.b()},
+            {"b_stderr", bootstrap.b_stderr()},
+            {"bootstrap", m_bootstrap},
+            {"chains", chains},
+            {"mutations", mutations},
+            {"mutations_per_pixel", double(mutations) / double(pixels)},
+            {"acceptance", mutations ? double(accepted) / double(mutations) : 0.0},
+            {"large_step_prob", params.large_step_prob},
+            {"sigma", params.sigma},
+            {"seconds_bootstrap", seconds_bootstrap}};
     };
     if (!(bootstrap.b() > 0)) {
         // No path carries light: the image is black, whatever the budget.
         result.spp = timed ? 0 : ctx.spp;
-        result.extra_json = stats_json(0, 0, 0);
+        result.stats["pssmlt"] = stats_json(0, 0, 0);
         return result;
     }
 
@@ -107,7 +109,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     int64_t accepted = 0;
     for (const MarkovChain& c : chains) accepted += c.accepted();
     result.spp = int(done / pixels);
-    result.extra_json = stats_json(done, accepted, n_chains);
+    result.stats["pssmlt"] = stats_json(done, accepted, n_chains);
     return result;
 }
 
