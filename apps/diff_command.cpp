@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "film/image.h"
 #include "film/image_metrics.h"
+#include "options.h"
 
 namespace ml {
 
@@ -13,7 +14,7 @@ void add_diff_command(CLI::App& app, DiffArgs& a) {
     d->add_option("B", a.b, "reference image")->required();
     d->add_flag("--json", a.json, "print one JSON object");
     d->add_option("--block", a.block, "also list the worst N x N block means")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_integer());
     d->add_flag("--block-average", a.block_average,
                 "compare blocks by the mean of their channels, not channel by channel");
 }

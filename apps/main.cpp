@@ -8,10 +8,15 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "options.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"manylight: a many-light renderer (pbrt-v4 scenes in, images out)"};
     app.require_subcommand(1);
+    // One prefix on every message; set before the subcommands, which copy it.
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return std::string(ml::kMessagePrefix) + e.what() + "\n";
+    });
     app.set_version_flag("--version", "manylight 0.1");
     ml::RenderArgs render_args;
     ml::add_render_command(app, render_args);
@@ -34,10 +39,10 @@ int main(int argc, char** argv) {
         std::cerr << e.formatted() << "\n";
         return 1;
     } catch (const ml::UsageError& e) {
-        std::cerr << "manylight: " << e.what() << "\n";
+        std::cerr << ml::kMessagePrefix << e.what() << "\n";
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "manylight: " << e.what() << "\n";
+        std::cerr << ml::kMessagePrefix << e.what() << "\n";
         return 1;
     }
     return 2;

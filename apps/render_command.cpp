@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <sys/resource.h>
 
@@ -10,6 +11,7 @@
 #include "commands.h"
 #include "integrators/registry.h"
 #include "integrators/render_job.h"
+#include "options.h"
 #include "render/settings.h"
 #include "scene/default_scene.h"
 #include "scene/scene_desc.h"
@@ -17,26 +19,31 @@
 namespace ml {
 
 void add_render_command(CLI::App& app, RenderArgs& a) {
-    std::string integrators;
-    for (const IntegratorInfo& info : integrator_registry())
-        integrators += (integrators.empty() ? "" : ", ") + info.name;
+    std::vector<std::string> integrators;
+    for (const IntegratorInfo& info : integrator_registry()) integrators.push_back(info.name);
     CLI::App* r = app.add_subcommand("render", "render a pbrt-v4 scene (default: the Cornell box)");
     r->add_option("scene", a.scene, "scene file (.pbrt); none: the built-in Cornell box");
-    r->add_option("-o,--output", a.output, "output image: .exr, .png or .pfm");
-    r->add_option("--integrator", a.integrator, "one of: " + integrators);
-    r->add_option("--spp", a.spp, "samples per pixel")->check(CLI::PositiveNumber);
-    r->add_option("--max-depth", a.max_depth, "maximum path depth")->check(CLI::NonNegativeNumber);
-    r->add_option("--resolution", a.resolution, "image size WxH");
+    r->add_option("-o,--output", a.output, "output image: .exr, .png or .pfm")
+        ->check(output_image());
+    r->add_option("--integrator", a.integrator,
+                  "one of: " + fmt::format("{}", fmt::join(integrators, ", ")))
+        ->check(one_of(integrators, "integrator"));
+    r->add_option("--spp", a.spp, "samples per pixel")->check(positive_integer());
+    r->add_option("--max-depth", a.max_depth, "maximum path depth")->check(non_negative_integer());
+    r->add_option("--resolution", a.resolution, "image size WxH")->check(image_size());
     r->add_option("--threads", a.threads, "threads (default: all cores)")
-        ->check(CLI::PositiveNumber);
-    r->add_option("--seed", a.seed, "random seed")->check(CLI::NonNegativeNumber);
-    r->add_option("--sampler", a.sampler, "independent, stratified or sobol");
+        ->check(positive_integer());
+    r->add_option("--seed", a.seed, "random seed")->check(seed_value());
+    r->add_option("--sampler", a.sampler, "independent, stratified or sobol")
+        ->check(one_of({"independent", "stratified", "sobol"}, "sampler"));
     r->add_option("--time-limit", a.time_limit, "render progressively for this many seconds")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_seconds());
     // One value per flag, so that `--set a.b=1 scene.pbrt` leaves the scene positional.
     r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)")
-        ->allow_extra_args(false);
-    r->add_option("--stats", a.stats, "write figures as JSON to this file");
+        ->allow_extra_args(false)
+        ->check(setting());
+    r->add_option("--stats", a.stats, "write figures as JSON to this file")
+        ->check(file_in_existing_folder());
     r->add_option("--aov", a.aovs,
                   "also write an extra image the integrator makes (lightcuts: cutsize) to "
                   "OUT.NAME.exr (repeatable)")
@@ -49,9 +56,8 @@ namespace {
 void parse_resolution(const std::string& s, RenderOptions& o) {
     int w = 0, h = 0;
     char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
-        throw UsageError("--resolution " + s + ": expected WxH, e.g. 640x360");
-    if (w <= 0 || h <= 0) throw UsageError("--resolution " + s + ": must be positive");
+    if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || w <= 0 || h <= 0)
+        throw UsageError("--resolution: expected WIDTHxHEIGHT, got \"" + s + "\"");
     o.width = w;
     o.height = h;
 }
@@ -67,22 +73,14 @@ int run_render(const RenderArgs& a) {
     if (a.max_depth >= 0) o.max_depth = a.max_depth;
     if (!a.resolution.empty()) parse_resolution(a.resolution, o);
     if (a.seed >= 0) o.seed = uint64_t(a.seed);
-    if (!a.sampler.empty()) {
-        if (a.sampler != "independent" && a.sampler != "stratified" && a.sampler != "sobol")
-            throw UsageError("--sampler " + a.sampler + ": independent, stratified or sobol");
-        o.sampler = a.sampler;
-    }
+    if (!a.sampler.empty()) o.sampler = a.sampler;
     o.threads = a.threads;
     o.time_limit = a.time_limit;
     o.progress = !a.quiet;
-    for (const std::string& kv : a.set) {
+    for (const std::string& kv : a.set) {  // checked by setting(): NAME.KEY=VALUE
         size_t eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0 || kv.find('.') > eq)
-            throw UsageError("--set " + kv + ": expected NAME.KEY=VALUE");
         o.set[kv.substr(0, eq)] = kv.substr(eq + 1);
     }
-    if (!a.integrator.empty() && !find_integrator(a.integrator))
-        throw UsageError("unknown integrator \"" + a.integrator + "\"");
 
     // Load.
     auto t0 = std::chrono::steady_clock::now();
@@ -126,7 +124,8 @@ int run_render(const RenderArgs& a) {
 
     const RenderFigures& f = out.figures;
     if (!a.quiet)
-        for (const std::string& w : f.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        for (const std::string& w : f.warnings)
+            std::fprintf(stderr, "%swarning: %s\n", kMessagePrefix, w.c_str());
     if (!a.stats.empty()) {
         std::string tmp = a.stats + ".tmp";
         {

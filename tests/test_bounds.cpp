@@ -146,7 +146,9 @@ TEST(Cone, MinAngleAndMaxCos) {
             ASSERT_GE(mc, dot(v, w) - 1e-6f);
             ASSERT_GE(mac, std::abs(dot(v, w)) - 1e-6f);
         }
-        if (cone_contains(c, w)) EXPECT_EQ(ma, 0.f);
+        if (cone_contains(c, w)) {
+            EXPECT_EQ(ma, 0.f);
+        }
     }
 }
 

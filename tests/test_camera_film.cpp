@@ -3,6 +3,7 @@
 
 #include "camera/camera.h"
 #include "core/rng.h"
+#include "film/film.h"
 #include "film/filter.h"
 
 using namespace ml;
@@ -95,4 +96,26 @@ TEST(Filter, GaussianSamplesMatchItsWeights) { expect_filter_consistent("gaussia
 TEST(Filter, UnknownFilterIsAnInputError) {
     ParameterList p;
     EXPECT_THROW(create_filter("mitchell", p, {}), InputError);
+}
+
+TEST(Film, NonFiniteSamplesAreCountedAndLeaveThePixelAlone) {
+    Film film(2, 1);
+    film.add_sample({0, 0}, RGB(1, 2, 3), 1.f);
+    film.add_sample({0, 0}, RGB(std::nanf(""), 0, 0), 1.f);
+    film.add_sample({0, 0}, RGB(0, kInfinity, 0), 1.f);
+    film.add_splat(Vec2(1.5f, 0.5f), RGB(0, 0, std::nanf("")));
+    EXPECT_EQ(film.nonfinite_samples(), 3u);
+    Image img = film.to_image();
+    EXPECT_EQ(img.at(0, 0).g, 2.f);
+    EXPECT_EQ(img.at(1, 0).b, 0.f);
+    EXPECT_EQ(film.pixels_without_samples(), 1u);
+}
+
+TEST(Film, ImagingRatioScalesBeforeTheClamp) {
+    Film film(1, 1, /*max_component_value=*/4.f, /*imaging_ratio=*/2.f);
+    film.add_sample({0, 0}, RGB(1, 3, 0.5f), 1.f);  // scaled (2, 6, 1), clamped to (4/3, 4, 2/3)
+    RGB c = film.to_image().at(0, 0);
+    EXPECT_NEAR(c.r, 4.f / 3, 1e-6f);
+    EXPECT_NEAR(c.g, 4.f, 1e-6f);
+    EXPECT_NEAR(c.b, 2.f / 3, 1e-6f);
 }

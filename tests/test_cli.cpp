@@ -151,3 +151,89 @@ TEST_F(Cli, SetBeforeTheSceneLeavesTheScenePositional) {
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_TRUE(fs::exists(path("a.png")));
 }
+
+// Every bad option gets one line: the prefix, the option, what it expects and what it got.
+TEST_F(Cli, NumericOptionsSayWhatTheyExpectAndGot) {
+    struct Case {
+        const char* args;
+        const char* message;
+    };
+    for (const Case& c : {
+             Case{"--spp abc", "manylight: --spp: expected a positive integer, got \"abc\""},
+             Case{"--spp 0", "manylight: --spp: expected a positive integer, got \"0\""},
+             Case{"--spp 99999999999", "--spp: expected a positive integer, got \"99999999999\""},
+             Case{"--threads -2", "--threads: expected a positive integer, got \"-2\""},
+             Case{"--max-depth x", "--max-depth: expected a non-negative integer, got \"x\""},
+             Case{"--seed 1.5", "--seed: expected a non-negative integer, got \"1.5\""},
+             Case{"--time-limit 0",
+                  "--time-limit: expected a positive number of seconds, got \"0\""},
+             Case{"--time-limit nan", "--time-limit: expected a positive number of seconds"},
+             Case{"--resolution 64",
+                  "--resolution: expected WIDTHxHEIGHT, e.g. 640x360, got \"64\""},
+             Case{"--set vplcount=1", "--set: expected NAME.KEY=VALUE"},
+             Case{"--sampler halton", "--sampler: unknown sampler \"halton\"; expected one of:"},
+         }) {
+        Result r = run(std::string("render ") + c.args + " -q -o " + path("x.png"));
+        EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << ": " << r.output;
+        EXPECT_EQ(r.output.find("1797693"), std::string::npos) << r.output;  // no double range
+        EXPECT_EQ(r.output.rfind("manylight: ", 0), 0u) << "one prefix: " << r.output;
+        EXPECT_FALSE(fs::exists(path("x.png")));
+    }
+}
+
+TEST_F(Cli, UnknownIntegratorListsTheValidNames) {
+    Result r = run("render --integrator nosuch -q -o " + path("x.png"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    for (const char* name : {"path", "bdpt", "vpl", "lightcuts", "mdlightcuts", "pssmlt"})
+        EXPECT_NE(r.output.find(name), std::string::npos) << name << ": " << r.output;
+    EXPECT_NE(r.output.find("unknown integrator \"nosuch\""), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, OutputInAMissingFolderNamesTheUsersPath) {
+    std::string out = path("no/such/folder/x.png");
+    Result r = run("render -q -o " + out);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(out), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find(".tmp"), std::string::npos) << r.output;
+    r = run("render -q --spp 1 --resolution 8x8 -o " + path("x.png") + " --stats " +
+            path("none/s.json"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(path("none/s.json")), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+// pbrt-v4's film scales by exposuretime * iso / 100; spectral sensors and white balance are
+// errors at their place, never silently ignored.
+TEST_F(Cli, FilmExposureScalesAndSpectralSensorsAreErrors) {
+    auto scene = [&](const std::string& name, const std::string& film) {
+        std::string text = kTinyScene;
+        text.replace(text.find("Film \"rgb\""), 10, "Film \"rgb\" " + film);
+        return write(name, text);
+    };
+    auto mean = [&](const std::string& file) {
+        Result r = run("render " + file + " --spp 4 --seed 3 -q -o " + path("m.pfm"));
+        EXPECT_EQ(r.code, 0) << r.output;
+        Result d = run("diff " + path("m.pfm") + " " + path("m.pfm") + " --json");
+        return nlohmann::json::parse(d.output).at("mean_a").at(0).get<double>();
+    };
+    double plain = mean(scene("plain.pbrt", ""));
+    double bright =
+        mean(scene("bright.pbrt", "\"float iso\" [ 400 ] \"float exposuretime\" [ 0.5 ]"));
+    ASSERT_GT(plain, 0);
+    EXPECT_NEAR(bright / plain, 2.0, 1e-3);
+    expect_input_error(scene("sensor.pbrt", "\"string sensor\" [ \"canon_eos_100d\" ]"),
+                       "sensor.pbrt:3:");
+    expect_input_error(scene("wb.pbrt", "\"float whitebalance\" [ 5000 ]"), "wb.pbrt:3:");
+    expect_input_error(scene("iso.pbrt", "\"float iso\" [ 0 ]"), "must be positive");
+}
+
+TEST_F(Cli, StatsCountNonFiniteSamples) {
+    std::string scene = write("tiny.pbrt", kTinyScene);
+    Result r =
+        run("render " + scene + " --spp 2 -q -o " + path("a.exr") + " --stats " + path("s.json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream js(path("s.json"));
+    nlohmann::json stats = nlohmann::json::parse(js);
+    EXPECT_EQ(stats.at("film").at("nonfinite_samples"), 0) << stats;
+}

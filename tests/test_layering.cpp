@@ -214,9 +214,10 @@ TEST(Layering, FilesFormNoIncludeCycle) {
 TEST(Layering, WrappedLibrariesAreIncludedInOnePlace) {
     for (const auto& [prefix, allowed] : kWrappedLibraries)
         for (const Include& inc : sources().system)
-            if (inc.to.rfind(prefix, 0) == 0)
+            if (inc.to.rfind(prefix, 0) == 0) {
                 EXPECT_TRUE(allowed.count(inc.from))
                     << inc.from << ":" << inc.line << " includes <" << inc.to << ">";
+            }
 }
 
 // The checks themselves, on graphs made up to break them.

@@ -65,7 +65,9 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
         } else {
             EXPECT_TRUE(node.bounds.empty());
         }
-        if (node.kind != PointLightKind::Omni) EXPECT_TRUE(cone_contains(node.cone, pl.n));
+        if (node.kind != PointLightKind::Omni) {
+            EXPECT_TRUE(cone_contains(node.cone, pl.n));
+        }
         for (int c = 0; c < 3; ++c) total[c] += pl.intensity[c];
         rep_found |= (*leaves)[k] == node.light;
     }

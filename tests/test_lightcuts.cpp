@@ -8,6 +8,7 @@
 #include "manylight/light_tree.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
+#include "shared_files.h"
 
 using namespace ml;
 
@@ -80,7 +81,7 @@ ErrorFigures compare_with_exact(Load load, int vpls, int res, const CutOptions& 
 
 SceneDesc cornell() { return parse_scene_string(default_scene_text(), "."); }
 SceneDesc cornell_4096() {
-    return parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) +
+    return parse_scene_file(ml::test::shared_dir() +
                             "/scenes/cornell-box/scene-pointlights-4096.pbrt");
 }
 
@@ -90,6 +91,7 @@ SceneDesc cornell_4096() {
 // the typical pixel is within it, the image mean is close, and the cut converges to the exact
 // sum as the threshold shrinks.
 TEST(Lightcuts, MaxCriterionConvergesToTheExactSum) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     for (auto load : {cornell, cornell_4096}) {
         ErrorFigures coarse = compare_with_exact(load, 2000, 24, {0.02f});
         EXPECT_LE(coarse.percentile(0.5), 0.02);
@@ -106,6 +108,7 @@ TEST(Lightcuts, MaxCriterionConvergesToTheExactSum) {
 // sample of a pixel (83-89% of pixels within 2% at 2 to 8 spp). Representatives drawn per
 // sample (lightcuts.reps) make them independent, so they average out over a pixel's samples.
 TEST(Lightcuts, WithinTheErrorInNinetyNinePercentOfPixels) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     for (auto load : {cornell, cornell_4096}) {
         CutOptions opt;
         opt.spp = 16;
@@ -120,6 +123,7 @@ TEST(Lightcuts, WithinTheErrorInNinetyNinePercentOfPixels) {
 // With the "sum" criterion (and no cap on the cut) each gather point's error is bounded by the
 // threshold for certain: every pixel is within it.
 TEST(Lightcuts, SumCriterionBoundsEveryPixel) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     for (auto load : {cornell, cornell_4096}) {
         ErrorFigures f = compare_with_exact(load, 1000, 16, {0.02f, "sum", 1 << 20});
         EXPECT_GE(f.fraction_within(0.02 * 1.001), 0.999);
@@ -130,6 +134,7 @@ TEST(Lightcuts, SumCriterionBoundsEveryPixel) {
 // shadow ray each, `lightcuts.verify`): its error never exceeds its bound. The kitchen has bump
 // mapping, coated and metal surfaces, glossy VPLs and area lights close to the worktops.
 TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
+    ML_NEED_SHARED("scenes/kitchen/scene-v4.pbrt");
     for (const char* glossy : {"bsdf", "diffuse", "skip", "clamped"}) {
         RenderOptions opt;
         opt.integrator = "lightcuts";
@@ -148,14 +153,14 @@ TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
         }
         opt.set["lightcuts.verify"] = "true";
         RenderOutput out = render_scene(
-            parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) + "/scenes/kitchen/scene-v4.pbrt"),
-            opt);
+            parse_scene_file(ml::test::shared_dir() + "/scenes/kitchen/scene-v4.pbrt"), opt);
         const nlohmann::json& json = out.figures.integrator_stats.at("lightcuts");
         std::printf("glossy %s: %s\n", glossy, json.dump().c_str());
         EXPECT_GT(json.at("verify").at("nodes").get<double>(), 10000);
         EXPECT_EQ(json.at("verify").at("violations").get<double>(), 0);
-        if (std::string(glossy) == "bsdf")
+        if (std::string(glossy) == "bsdf") {
             EXPECT_GT(json.at("glossy").get<double>(), 100) << "glossy VPLs";
+        }
     }
 }
 

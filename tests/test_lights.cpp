@@ -2,6 +2,7 @@
 // sample_li, power() against emitted radiance integrated through sample_le, image environment
 // maps by chi-square, the light sampler's pmf, and bad input.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "lights/light_sampler.h"
 #include "lights/lights.h"
 #include "sampling/warps.h"
+#include "shared_files.h"
 
 namespace ml {
 namespace {
@@ -223,8 +225,19 @@ Image spiky_image(int w, int h, float peak) {
     return im;
 }
 
+// This process's scratch folder for the images below, removed when the tests end.
+std::filesystem::path temp_folder() {
+    return std::filesystem::temp_directory_path() /
+           ("manylight_test_lights_" + std::to_string(::getpid()));
+}
+struct RemoveTempFolder : ::testing::Environment {
+    void TearDown() override { std::filesystem::remove_all(temp_folder()); }
+};
+[[maybe_unused]] ::testing::Environment* const kRemoveTempFolder =
+    ::testing::AddGlobalTestEnvironment(new RemoveTempFolder);
+
 std::string write_temp(const Image& im, const std::string& name) {
-    auto dir = std::filesystem::temp_directory_path() / "manylight_test_lights";
+    auto dir = temp_folder();
     std::filesystem::create_directories(dir);
     std::string path = (dir / name).string();
     // Written by hand (little-endian colour PFM, bottom row first) to depend only on reading.
@@ -330,10 +343,10 @@ TEST(Lights, ImageInfiniteOrientationAndIlluminance) {
 }
 
 TEST(Lights, SharedSkydomeLoads) {
-    std::string path = std::string(MANYLIGHT_SHARED_DIR) + "/scenes/classroom/textures/Skydome.pfm";
+    std::string path = ml::test::shared_dir() + "/scenes/classroom/textures/Skydome.pfm";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
     auto l = create_light("infinite", params({str_param("filename", "textures/Skydome.pfm")}),
-                          Transform(), std::string(MANYLIGHT_SHARED_DIR) + "/scenes/classroom", {});
+                          Transform(), ml::test::shared_dir() + "/scenes/classroom", {});
     Bounds3 b;
     b.expand({0, 0, 0});
     b.expand({1, 1, 1});

@@ -15,6 +15,7 @@
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"
+#include "shared_files.h"
 
 using namespace ml;
 
@@ -22,7 +23,7 @@ namespace {
 
 SceneDesc cornell() { return parse_scene_string(default_scene_text(), "."); }
 SceneDesc cornell_4096() {
-    return parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) +
+    return parse_scene_file(ml::test::shared_dir() +
                             "/scenes/cornell-box/scene-pointlights-4096.pbrt");
 }
 
@@ -95,6 +96,7 @@ Agreement compare_with_exact(Load load, int res, int spp, float error,
 // (single-point Lightcuts at 16 spp averages 16 independent cuts). The representatives are drawn
 // at random, so the image mean agrees within the noise, and the error shrinks with the threshold.
 TEST(MdLightcuts, WithinTheErrorOfTheExactSum) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     for (auto load : {cornell_4096, cornell}) {
         const float e = 0.02f;
         Agreement a = compare_with_exact(load, 20, 16, e);
@@ -111,6 +113,7 @@ TEST(MdLightcuts, WithinTheErrorOfTheExactSum) {
 // With the "sum" criterion (and no cap on the cut) each pixel's error is bounded by the
 // threshold for certain: every pixel is within it.
 TEST(MdLightcuts, SumCriterionBoundsEveryPixel) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     Agreement a = compare_with_exact(cornell_4096, 10, 16, 0.05f, "sum", 1 << 24);
     EXPECT_GE(a.fraction_within(0.05 * 1.001), 0.999);
 }
@@ -118,6 +121,7 @@ TEST(MdLightcuts, SumCriterionBoundsEveryPixel) {
 // A cut stopped by max_cut is not within the error: --stats counts such pixel passes, and the
 // render warns when they are more than 10%.
 TEST(MdLightcuts, WarnsWhenCutsReachTheCap) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     for (const char* max_cut : {"8", "2000"}) {
         RenderOptions opt = many_light_options("mdlightcuts", 8, 16);
         opt.set["mdlightcuts.max_cut"] = max_cut;
@@ -138,6 +142,7 @@ TEST(MdLightcuts, WarnsWhenCutsReachTheCap) {
 // Two passes of 16 samples (spp 20 rounds up to 32) shade with independent representatives, so
 // the error shrinks and stays unbiased.
 TEST(MdLightcuts, PassesRoundUpAndAverage) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     RenderOptions opt = many_light_options("mdlightcuts", 8, 20);
     RenderOutput out = render_scene(cornell_4096(), opt);
     EXPECT_EQ(out.figures.spp, 32);
@@ -241,9 +246,10 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
                     << " light node " << p.light << " channel " << c;
                 EXPECT_GE(loose[c] * 1.0001f + 1e-9f, tight[c]) << "channel " << c;
             }
-            if (p.grep >= 0 && p.bound > 0)  // a pair of the cut: its error within its bound
+            if (p.grep >= 0 && p.bound > 0) {  // a pair of the cut: its error within its bound
                 EXPECT_GE(p.bound * 1.0001f + 1e-9f,
                           std::abs(p.estimate.luminance() - exact.luminance()));
+            }
             ++checked;
         }
         scratch.reset();
@@ -257,6 +263,7 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
 }  // namespace
 
 TEST(MdLightcuts, PairBoundsAreUpperBoundsOfTheExactSum) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     expect_pair_bounds_hold(cornell_4096(), 16, 16, 500, "bsdf",
                             {{8, 8}, {2, 13}, {14, 3}, {7, 1}});
 }
@@ -264,13 +271,15 @@ TEST(MdLightcuts, PairBoundsAreUpperBoundsOfTheExactSum) {
 // The kitchen: bump mapping, coated and metal surfaces, glossy VPLs, area lights close to the
 // worktops, glass and mirrors (coloured throughputs).
 TEST(MdLightcuts, PairBoundsHoldOnTheKitchen) {
+    ML_NEED_SHARED("scenes/kitchen/scene-v4.pbrt");
     for (const char* glossy : {"bsdf", "diffuse"})
         expect_pair_bounds_hold(
-            parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) + "/scenes/kitchen/scene-v4.pbrt"),
-            32, 18, 1000, glossy, {{16, 9}, {5, 12}, {27, 4}, {10, 15}, {22, 13}});
+            parse_scene_file(ml::test::shared_dir() + "/scenes/kitchen/scene-v4.pbrt"), 32, 18,
+            1000, glossy, {{16, 9}, {5, 12}, {27, 4}, {10, 15}, {22, 13}});
 }
 
 TEST(MdLightcuts, DeterministicForASeedWhateverTheThreads) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-pointlights-4096.pbrt");
     RenderOptions opt = many_light_options("mdlightcuts", 16, 32);
     opt.set["mdlightcuts.samples"] = "8";
     opt.threads = 1;

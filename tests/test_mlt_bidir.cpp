@@ -138,7 +138,9 @@ TEST(MltBidir, DeletionProbabilitiesAreVeachsAndSumToOne) {
         for (int k = 0; k <= n + 3; ++k) sum += deletion_probability(n, k);
         EXPECT_NEAR(sum, 1.0, 1e-12) << n;
         EXPECT_EQ(deletion_probability(n, 1), 0.0);
-        if (n >= 3) EXPECT_NEAR(deletion_probability(n, 2) / deletion_probability(n, 3), 4, 1e-12);
+        if (n >= 3) {
+            EXPECT_NEAR(deletion_probability(n, 2) / deletion_probability(n, 3), 4, 1e-12);
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 
 #include "parser_test_helpers.h"
 #include "ply_test_helpers.h"
+#include "shared_files.h"
 
 using namespace ml;
 using ml::test::expect_input_error;
@@ -166,9 +167,10 @@ TEST(BadInput, MissingPlyFile) {
 }
 
 TEST(BadInput, TruncatedPly) {
+    ML_NEED_SHARED("scenes/veach-bidir/models/Mesh001.ply");
     ScratchDir dir;
-    std::string ply = test::read_file(std::string(MANYLIGHT_SHARED_DIR) +
-                                      "/scenes/veach-bidir/models/Mesh001.ply");
+    std::string ply =
+        test::read_file(ml::test::shared_dir() + "/scenes/veach-bidir/models/Mesh001.ply");
     dir.write("cut.ply", ply.substr(0, ply.size() - 7));
     std::string main = dir.write(
         "scene.pbrt", "WorldBegin\nShape \"plymesh\"\n  \"string filename\" \"cut.ply\"\n");

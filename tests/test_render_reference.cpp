@@ -11,12 +11,13 @@
 
 #include "film/image_metrics.h"
 #include "render_helpers.h"
+#include "shared_files.h"
 
 using namespace ml;
 
 namespace {
 
-const std::string kShared = MANYLIGHT_SHARED_DIR;
+const std::string kShared = ml::test::shared_dir();
 
 Image render_cornell(int spp) {
     RenderOptions opt;
@@ -33,6 +34,8 @@ Image render_cornell(int spp) {
 }  // namespace
 
 TEST(RenderReference, CornellBoxMatchesTungstenAndPbrt) {
+    ML_NEED_SHARED("scenes/cornell-box/TungstenRender.exr");
+    ML_NEED_SHARED("references/cornell-box-path-256-2048spp.exr");
     Image ours = render_cornell(128);
     Image tungsten =
         box_downsample(read_image(kShared + "/scenes/cornell-box/TungstenRender.exr"), 4);

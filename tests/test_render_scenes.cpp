@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include "render_helpers.h"
+#include "shared_files.h"
 
 using namespace ml;
 
 namespace {
 
 void expect_renders(const std::string& scene, int w, int h) {
+    ML_NEED_SHARED("scenes/" + scene);  // a skip here ends the (void) helper and the test
     RenderOptions opt;
     opt.integrator = "path";
     opt.spp = 2;
@@ -16,7 +18,7 @@ void expect_renders(const std::string& scene, int w, int h) {
     opt.height = h;
     opt.progress = false;
     RenderOutput out =
-        render_scene(parse_scene_file(std::string(MANYLIGHT_SHARED_DIR) + "/scenes/" + scene), opt);
+        render_scene(parse_scene_file(ml::test::shared_dir() + "/scenes/" + scene), opt);
     ASSERT_EQ(out.image.width, w);
     double sum = 0;
     for (const RGB& p : out.image.pixels) {
@@ -26,6 +28,7 @@ void expect_renders(const std::string& scene, int w, int h) {
     }
     EXPECT_GT(sum / out.image.pixels.size(), 1e-3) << scene;
     EXPECT_GT(out.figures.triangles, 0u);
+    EXPECT_EQ(out.figures.nonfinite_samples, 0u) << scene;  // the film drops and counts them
 }
 
 }  // namespace

@@ -4,10 +4,11 @@
 
 namespace ml {
 
-Film::Film(int width, int height, float max_component_value)
+Film::Film(int width, int height, float max_component_value, float imaging_ratio)
     : m_width(width),
       m_height(height),
       m_max_component(max_component_value),
+      m_imaging_ratio(imaging_ratio),
       m_pixels(size_t(width) * height),
       m_splats(size_t(width) * height * 3) {
     clear();
@@ -16,14 +17,25 @@ Film::Film(int width, int height, float max_component_value)
 void Film::clear() {
     for (Pixel& p : m_pixels) p = Pixel();
     for (auto& s : m_splats) s.store(0.f, std::memory_order_relaxed);
+    m_nonfinite.store(0, std::memory_order_relaxed);
+}
+
+size_t Film::pixels_without_samples() const {
+    size_t n = 0;
+    for (const Pixel& p : m_pixels) n += p.weight == 0;
+    return n;
 }
 
 void Film::add_sample(Point2i p, RGB L, float weight) {
     ML_ASSERT(p.x >= 0 && p.y >= 0 && p.x < m_width && p.y < m_height,
               fmt::format("pixel ({}, {}) outside the {}x{} film", p.x, p.y, m_width, m_height));
-    // Drop what cannot be a radiance (a NaN would poison the pixel) and clamp, if asked, as
-    // pbrt's "maxcomponentvalue" does.
-    if (!L.is_finite()) return;
+    // Drop what cannot be a radiance (a NaN would poison the pixel), counted for --stats, and
+    // clamp, if asked, as pbrt's "maxcomponentvalue" does.
+    if (!L.is_finite()) {
+        m_nonfinite.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
+    L *= m_imaging_ratio;  // the sensor's response first, then the clamp, as pbrt-v4
     float m = L.max_component();
     if (m > m_max_component) L *= m_max_component / m;
     Pixel& px = m_pixels[size_t(p.y) * m_width + p.x];
@@ -35,7 +47,12 @@ void Film::add_sample(Point2i p, RGB L, float weight) {
 
 void Film::add_splat(const Vec2& p_film, RGB v) {
     int x = int(std::floor(p_film.x)), y = int(std::floor(p_film.y));
-    if (x < 0 || y < 0 || x >= m_width || y >= m_height || !v.is_finite()) return;
+    if (!v.is_finite()) {
+        m_nonfinite.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
+    if (x < 0 || y < 0 || x >= m_width || y >= m_height) return;
+    v *= m_imaging_ratio;
     size_t i = (size_t(y) * m_width + x) * 3;
     for (int c = 0; c < 3; ++c) m_splats[i + c].fetch_add(v[c], std::memory_order_relaxed);
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <vector>
 
 #include "core/color.h"
@@ -13,7 +14,9 @@ namespace ml {
 
 class Film {
 public:
-    Film(int width, int height, float max_component_value = kInfinity);
+    // `imaging_ratio` scales every sample and splat (pbrt-v4's exposuretime * iso / 100); the
+    // clamp to `max_component_value` applies after it, as in pbrt-v4.
+    Film(int width, int height, float max_component_value = kInfinity, float imaging_ratio = 1.f);
     int width() const { return m_width; }
     int height() const { return m_height; }
     // Adds a camera sample of pixel p; only the thread rendering p calls this for p.
@@ -23,6 +26,10 @@ public:
     // The image: weighted mean per pixel, plus splats times `splat_scale`.
     Image to_image(float splat_scale = 1.f) const;
     void clear();
+    // Samples and splats dropped because a channel was NaN or infinite.
+    uint64_t nonfinite_samples() const { return m_nonfinite.load(std::memory_order_relaxed); }
+    // Pixels that no camera sample reached (a time limit that ended the first pass early).
+    size_t pixels_without_samples() const;
 
 private:
     struct Pixel {
@@ -31,6 +38,8 @@ private:
     };
     int m_width, m_height;
     float m_max_component;
+    float m_imaging_ratio;
+    std::atomic<uint64_t> m_nonfinite{0};
     std::vector<Pixel> m_pixels;
     std::vector<std::atomic<float>> m_splats;  // 3 per pixel
 };

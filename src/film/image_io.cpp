@@ -102,6 +102,9 @@ void write_image(const std::string& path, const Image& image) {
     if (!ok) {
         std::error_code ec;
         std::filesystem::remove(tmp, ec);
+        // The user named `path`: never show the temporary name in the message.
+        for (size_t at; (at = err.find(tmp.string())) != std::string::npos;)
+            err.replace(at, tmp.string().size(), path);
         throw Error("cannot write \"" + path + "\": " + err);
     }
     std::error_code ec;

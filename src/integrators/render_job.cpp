@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 
 #include "camera/camera.h"
 #include "core/parallel.h"
@@ -53,10 +54,26 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     float max_component = film_params.get_float("maxcomponentvalue", kInfinity);
     film_params.get_bool("savefp16", true);
     film_params.get_float("diagonal", 35.f);
-    film_params.get_float("iso", 100.f);
-    film_params.get_float("exposuretime", 1.f);
-    film_params.get_string("sensor", "cie1931");
-    film_params.get_float("whitebalance", 0.f);
+    // pbrt-v4's RGB film scales what its sensor sees by exposuretime * iso / 100. Its default
+    // sensor, cie1931, with no white balance, is the identity on RGB; the spectral sensors and
+    // white balancing need spectra, which manylight does not carry, so they are errors.
+    float imaging_ratio =
+        film_params.get_float("exposuretime", 1.f) * film_params.get_float("iso", 100.f) / 100.f;
+    if (!(imaging_ratio > 0) || !std::isfinite(imaging_ratio))
+        throw_input_error(film_params.find("iso") ? film_params.find("iso")->loc
+                                                  : film_params.find("exposuretime")->loc,
+                          "exposuretime * iso / 100 must be positive and finite, got {}",
+                          imaging_ratio);
+    if (std::string sensor = film_params.get_string("sensor", "cie1931"); sensor != "cie1931")
+        throw_input_error(film_params.find("sensor")->loc,
+                          "sensor \"{}\" needs spectral rendering; manylight renders in RGB and "
+                          "supports only \"cie1931\"",
+                          sensor);
+    if (float wb = film_params.get_float("whitebalance", 0.f); wb != 0)
+        throw_input_error(film_params.find("whitebalance")->loc,
+                          "whitebalance {} needs spectral rendering; manylight renders in RGB and "
+                          "supports only 0 (none)",
+                          wb);
     film_params.check_unused();
 
     // Sampler.
@@ -115,7 +132,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     Scene scene(std::move(desc));
     fig.seconds_build = seconds_since(t_build);
 
-    Film film(width, height, max_component);
+    Film film(width, height, max_component, imaging_ratio);
     Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
     RenderContext ctx{scene, camera, *filter, film, *sampler, spp, opt.time_limit, &progress};
     stats::reset();
@@ -126,6 +143,20 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     stats::RayCounts rays = stats::total();
 
     out.image = film.to_image();
+    fig.nonfinite_samples = film.nonfinite_samples();
+    if (fig.nonfinite_samples > 0)
+        fig.warnings.push_back(fmt::format(
+            "{} samples had a NaN or infinite channel and were dropped (film.nonfinite_samples)",
+            fig.nonfinite_samples));
+    // Splat-only integrators (lighttracer) add no camera samples: only pixel integrators count.
+    if (opt.time_limit > 0 && result.spp == 0 && film.pixels_without_samples() > 0 &&
+        film.pixels_without_samples() < size_t(width) * height) {
+        fig.pixels_without_samples = film.pixels_without_samples();
+        fig.warnings.push_back(fmt::format(
+            "the time limit ended the first pass: {} of {} pixels have no sample; raise "
+            "--time-limit",
+            fig.pixels_without_samples, size_t(width) * height));
+    }
     fig.integrator = name;
     fig.sampler = sampler_name;
     fig.spp = result.spp;
@@ -170,7 +201,10 @@ nlohmann::json RenderFigures::to_json() const {
         {"rays_per_second", seconds_render > 0 ? double(total) / seconds_render : 0.0},
         {"scene", {{"triangles", triangles}}},
         {"lights", {{"total", lights}, {"point_lights", point_lights}, {"vpls", vpls}}},
-        {"memory", {{"peak_rss_mb", peak_rss_mb}}}};
+        {"memory", {{"peak_rss_mb", peak_rss_mb}}},
+        {"film",
+         {{"nonfinite_samples", nonfinite_samples},
+          {"pixels_without_samples", pixels_without_samples}}}};
     for (const auto& [key, value] : integrator_stats.items()) j[key] = value;
     return j;
 }

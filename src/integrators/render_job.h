@@ -37,8 +37,10 @@ struct RenderFigures {
     size_t triangles = 0, lights = 0, point_lights = 0, vpls = 0;
     // Integrator-specific members of the --stats object, by name (RenderResult::stats).
     nlohmann::json integrator_stats = nlohmann::json::object();
-    std::string output_hint;  // the Film's "filename", if any
-    double peak_rss_mb = 0;   // peak resident memory of the process, filled in by the caller
+    std::string output_hint;         // the Film's "filename", if any
+    double peak_rss_mb = 0;          // peak resident memory of the process, filled in by the caller
+    uint64_t nonfinite_samples = 0;  // samples the film dropped: a NaN or infinite channel
+    size_t pixels_without_samples = 0;  // pixels the time limit left without a camera sample
     std::vector<std::string> warnings;  // for the user: settings that were not honoured
     // The --stats object.
     nlohmann::json to_json() const;

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -18,6 +19,9 @@
 
 namespace ml {
 
+// Under a time limit, the Metropolis integrators' bootstraps stop once this share of it is spent.
+inline constexpr double kBootstrapTimeShare = 0.25;
+
 struct RenderContext {
     const Scene& scene;
     const PerspectiveCamera& camera;
@@ -27,6 +31,14 @@ struct RenderContext {
     int spp = 16;            // samples per pixel (the cap when time_limit > 0)
     double time_limit = 0;   // seconds; > 0 renders progressively until spent
     Progress* progress = nullptr;
+    // When rendering began: the time limit counts from here, preparation (VPLs, trees) included.
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+
+    double elapsed() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    // True once a time limit is spent: loops stop starting work then.
+    bool out_of_time() const { return time_limit > 0 && elapsed() >= time_limit; }
 };
 
 struct RenderResult {

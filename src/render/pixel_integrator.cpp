@@ -27,13 +27,12 @@ Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
 }
 
 RenderResult PixelIntegrator::render(const RenderContext& ctx) {
-    Stopwatch clock;
     prepare(ctx.scene);
     ThreadLocal<ThreadState> states([&] {
         return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
     });
     RenderResult result;
-    result.spp = int(render_pixels(ctx, clock, ctx.spp, [&](Point2i pixel, int64_t s0, int64_t s1) {
+    result.spp = int(render_pixels(ctx, ctx.spp, [&](Point2i pixel, int64_t s0, int64_t s1) {
         ThreadState& ts = states.local();
         Sampler& sampler = *ts.sampler;
         for (int64_t s = s0; s < s1; ++s) {

@@ -10,7 +10,6 @@
 // time; no round is started that is not expected to.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -29,17 +28,6 @@ constexpr double kMaxRoundGrowth = 4.0;
 // does not make the next one infinite.
 constexpr double kMinSecondsPerUnit = 1e-9;
 
-// Seconds since construction.
-class Stopwatch {
-public:
-    double seconds() const {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
-    }
-
-private:
-    std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
-};
-
 // Under a time limit, how many units (samples, passes, mutations) the next round may take: what
 // fills kRoundTimeShare of the time left at the last round's cost per unit, at most
 // kMaxRoundGrowth times the last round and at most `most`; 0 when no unit fits any more.
@@ -53,22 +41,24 @@ struct RoundPlan {
 };
 
 // Runs rounds until `plan.total` units are done: round(done, units) runs up to `units` more units
-// (never more than plan.total - done; the caller clips) and returns how many it ran (0: it can
-// run none, which ends the loop). Without a time limit,
-// rounds of plan.most units (the whole budget by default); under one, a first round of
-// plan.first_timed units, then each as next_round_size says. Reports progress after each
-// round. Returns the units done.
-int64_t run_rounds(const RenderContext& ctx, const Stopwatch& clock, const RoundPlan& plan,
+// (the caller clips them to what is left) and returns how many it ran; 0 (nothing left to run,
+// or a round cut short by the time limit, which then does not count) ends the loop. Without a
+// time limit, rounds of plan.most units (the whole budget by default); under one, a first round
+// of plan.first_timed units, then each as next_round_size says, timed from the render's start
+// (RenderContext::elapsed). Reports progress after each round. Returns the units done.
+int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
                    const std::function<int64_t(int64_t done, int64_t units)>& round);
 
 // The progress bar's fraction: the time spent under a time limit, else the share of the work.
-void report_progress(const RenderContext& ctx, const Stopwatch& clock, double work_fraction);
+void report_progress(const RenderContext& ctx, double work_fraction);
 
 // Runs fn(pixel, u0, u1) for every pixel of the film, in rounds of units [u0, u1) planned by
 // run_rounds (without a time limit, one round of all `units`). Pixels run in tiles in parallel;
 // each pixel's units run in order on one thread, so the image does not depend on the schedule.
+// Past the time limit no tile or row of a tile starts, even within a round: the contract is the
+// time; the round then does not count (the film's weights keep the pixels' means right).
 // Returns the units done.
-int64_t render_pixels(const RenderContext& ctx, const Stopwatch& clock, int64_t units,
+int64_t render_pixels(const RenderContext& ctx, int64_t units,
                       const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
 
 }  // namespace ml

@@ -18,7 +18,6 @@ struct ThreadState {
 }  // namespace
 
 RenderResult SplatIntegrator::render(const RenderContext& ctx) {
-    Stopwatch clock;
     prepare(ctx);
     const int w = ctx.film.width(), h = ctx.film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
@@ -33,7 +32,7 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
     // Rounds of samples [s0, s1) per pixel, each in waves of tiles.
     RoundPlan plan;
     plan.total = ctx.spp;
-    const int64_t done = run_rounds(ctx, clock, plan, [&](int64_t s0, int64_t want) {
+    const int64_t done = run_rounds(ctx, plan, [&](int64_t s0, int64_t want) {
         const int64_t n = std::min<int64_t>(want, ctx.spp - s0), s1 = s0 + n;
         for (int wave = 0; wave < tile_count; wave += kTilesPerWave) {
             int wave_end = std::min(tile_count, wave + kTilesPerWave);
@@ -49,7 +48,7 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
                             ts.scratch.reset();
                         }
             });
-            report_progress(ctx, clock,
+            report_progress(ctx,
                             (double(s0) + double(n) * wave_end / tile_count) / double(ctx.spp));
         }
         return n;

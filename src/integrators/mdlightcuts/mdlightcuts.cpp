@@ -51,7 +51,6 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 }
 
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
-    Stopwatch clock;
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
@@ -64,11 +63,10 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
     // takes samples).
     const int passes = (ctx.spp + m_samples - 1) / m_samples;
-    const int done =
-        int(render_pixels(ctx, clock, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
-            ThreadState& ts = states.local();
-            for (int64_t p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, pixel, int(p));
-        }));
+    const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
+        ThreadState& ts = states.local();
+        for (int64_t p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, pixel, int(p));
+    }));
 
     RenderResult result;
     result.spp = done * m_samples;

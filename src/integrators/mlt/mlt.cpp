@@ -67,7 +67,6 @@ struct Chain {
 }  // namespace
 
 RenderResult MltIntegrator::render(const RenderContext& ctx) {
-    Stopwatch clock;
     for (const auto& l : ctx.scene.lights())
         if (l->type() == LightType::Infinite || l->type() == LightType::DeltaDirection)
             throw UsageError(name() + ": environment and distant lights are not supported");
@@ -85,22 +84,35 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
 
     // 1. Bootstrap: per depth, independent BDPT paths; b is the sum over depths of the mean
     //    luminance of f / q.
-    std::vector<float> weight(size_t(m_bootstrap) * depths, 0.f);
-    parallel_for(0, m_bootstrap, [&](int i) {
-        Sampler& sampler = *samplers.local();
-        ScratchBuffer& scratch = scratches.local();
-        for (int d = 0; d < depths; ++d) {
-            sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
-            int strategy = -1;
-            if (auto x = sample_bdpt_path(bctx, sampler, d, scratch, &strategy))
-                weight[size_t(i) * depths + d] = importance_of(proposal_weight(bctx, *x, strategy));
-            scratch.reset();
+    //    Under a time limit, in chunks, keeping the paths done once its share of the time is
+    //    spent: any prefix of the paths is as valid a bootstrap.
+    int n_bootstrap = m_bootstrap;
+    std::vector<float> weight(size_t(n_bootstrap) * depths, 0.f);
+    const int chunk = ctx.time_limit > 0 ? 4096 : n_bootstrap;
+    for (int i0 = 0; i0 < n_bootstrap; i0 += chunk) {
+        const int i1 = std::min(n_bootstrap, i0 + chunk);
+        parallel_for(i0, i1, [&](int i) {
+            Sampler& sampler = *samplers.local();
+            ScratchBuffer& scratch = scratches.local();
+            for (int d = 0; d < depths; ++d) {
+                sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
+                int strategy = -1;
+                if (auto x = sample_bdpt_path(bctx, sampler, d, scratch, &strategy))
+                    weight[size_t(i) * depths + d] =
+                        importance_of(proposal_weight(bctx, *x, strategy));
+                scratch.reset();
+            }
+        });
+        if (i1 < n_bootstrap && ctx.time_limit > 0 &&
+            ctx.elapsed() > kBootstrapTimeShare * ctx.time_limit) {
+            n_bootstrap = i1;
+            weight.resize(size_t(n_bootstrap) * depths);
         }
-    });
+    }
     std::vector<double> cdf(weight.size());
     double acc = 0;
     for (size_t i = 0; i < weight.size(); ++i) cdf[i] = acc += weight[i];
-    const double b = acc / m_bootstrap;
+    const double b = acc / n_bootstrap;
     if (!(b > 0)) return result;
 
     // 2. Chains start at bootstrap paths picked in proportion to their luminance.
@@ -135,7 +147,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     plan.total = total;
     plan.most = std::max<int64_t>(1, kMaxSegmentMutations / n_chains) * n_chains;
     plan.first_timed = std::max<int64_t>(1, kFirstTimedSegmentMutations / n_chains) * n_chains;
-    const int64_t done = run_rounds(ctx, clock, plan, [&](int64_t done_before, int64_t units) {
+    const int64_t done = run_rounds(ctx, plan, [&](int64_t done_before, int64_t units) {
         const int64_t per_chain = units / n_chains;
         if (per_chain < 1) return int64_t(0);
         run_and_merge(0, n_chains, lists, sums, [&](int64_t c, SplatList& splats) {

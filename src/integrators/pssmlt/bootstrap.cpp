@@ -13,20 +13,31 @@ MltSampler bootstrap_sampler(const MltParams& params, const PrimaryEstimator& es
                       estimator.stream_count());
 }
 
-Bootstrap::Bootstrap(const PrimaryEstimator& estimator, const MltParams& params, int n) {
+Bootstrap::Bootstrap(const PrimaryEstimator& estimator, const MltParams& params, int n,
+                     const std::function<bool()>& stop) {
     const size_t depths = size_t(estimator.depth_count());
-    const size_t count = size_t(n) * depths;
-    std::vector<float> importance(count, 0.f);
+    std::vector<float> importance(size_t(n) * depths, 0.f);
     ThreadLocal<ScratchBuffer> scratch;
-    parallel_for_chunks(size_t(0), count, size_t(256), [&](size_t begin, size_t end) {
-        ScratchBuffer& buf = scratch.local();
-        for (size_t i = begin; i < end; ++i) {
-            MltSampler sampler = bootstrap_sampler(params, estimator, i);
-            int depth = int(i % depths);
-            importance[i] = mlt_importance(estimator.sample(sampler, depth, buf).L);
-            buf.reset();
+    // Paths [p0, p1) of every stratum at a time: all of them at once without `stop`.
+    const int chunk = stop ? 4096 : n;
+    for (int p0 = 0; p0 < n; p0 += chunk) {
+        const int p1 = std::min(n, p0 + chunk);
+        parallel_for_chunks(
+            size_t(p0) * depths, size_t(p1) * depths, size_t(256), [&](size_t begin, size_t end) {
+                ScratchBuffer& buf = scratch.local();
+                for (size_t i = begin; i < end; ++i) {
+                    MltSampler sampler = bootstrap_sampler(params, estimator, i);
+                    int depth = int(i % depths);
+                    importance[i] = mlt_importance(estimator.sample(sampler, depth, buf).L);
+                    buf.reset();
+                }
+            });
+        if (p1 < n && stop && stop()) {
+            n = p1;
+            importance.resize(size_t(n) * depths);
         }
-    });
+    }
+    const size_t count = size_t(n) * depths;
     // The running sums run stratum by stratum (position d * n + i holds path i of stratum d),
     // so chains started at evenly spread positions split over the strata in proportion to
     // their brightness. Summed in a fixed order: the same b whatever the schedule.

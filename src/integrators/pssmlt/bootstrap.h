@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "integrators/pssmlt/estimator.h"
@@ -31,8 +32,12 @@ MltSampler bootstrap_sampler(const MltParams& params, const PrimaryEstimator& es
 
 class Bootstrap {
 public:
-    // `n` paths per stratum, evaluated in parallel (deterministically).
-    Bootstrap(const PrimaryEstimator& estimator, const MltParams& params, int n);
+    // `n` paths per stratum, evaluated in parallel (deterministically). With `stop`, they are
+    // evaluated in chunks and the bootstrap keeps the paths done when stop() first says true
+    // (a time limit): any prefix of the paths is as valid a bootstrap, only smaller.
+    Bootstrap(const PrimaryEstimator& estimator, const MltParams& params, int n,
+              const std::function<bool()>& stop = {});
+    int paths_per_stratum() const { return int(m_n); }
     // The mean importance per pixel sample, summed over strata: the image's mean luminance.
     double b() const { return m_b; }
     // The standard error of b (paths i of all strata summed are independent samples of b).

@@ -37,21 +37,24 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     const int w = ctx.film.width(), h = ctx.film.height();
     const int64_t pixels = int64_t(w) * h;
     const bool timed = ctx.time_limit > 0;
-    Stopwatch clock;
     MltParams params = m_params;
     params.seed = seed_from(ctx.sampler);
     auto estimator = make_primary_estimator(m_estimator, ctx.scene, ctx.camera, m_max_depth);
 
     // 1. Bootstrap: the image's mean luminance b and the chains' starting paths.
-    Bootstrap bootstrap(*estimator, params, m_bootstrap);
-    double seconds_bootstrap = clock.seconds();
+    // Under a time limit the bootstrap takes at most its share of the time.
+    std::function<bool()> bootstrap_stop;
+    if (timed)
+        bootstrap_stop = [&] { return ctx.elapsed() > kBootstrapTimeShare * ctx.time_limit; };
+    Bootstrap bootstrap(*estimator, params, m_bootstrap, bootstrap_stop);
+    double seconds_bootstrap = ctx.elapsed();
     RenderResult result;
     auto stats_json = [&](int64_t mutations, int64_t accepted, int64_t chains) {
         return nlohmann::json{
             {"estimator", m_estimator},
             {"b", bootstrap.b()},
             {"b_stderr", bootstrap.b_stderr()},
-            {"bootstrap", m_bootstrap},
+            {"bootstrap", bootstrap.paths_per_stratum()},
             {"chains", chains},
             {"mutations", mutations},
             {"mutations_per_pixel", double(mutations) / double(pixels)},
@@ -89,7 +92,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     plan.most = std::max<int64_t>(1, kMaxSegmentMutations / n_chains) * n_chains;
     plan.first_timed = std::max<int64_t>(1, kFirstTimedSegmentMutations / n_chains) * n_chains;
     std::vector<int64_t> ran(size_t(n_chains), 0);
-    const int64_t done = run_rounds(ctx, clock, plan, [&](int64_t, int64_t units) {
+    const int64_t done = run_rounds(ctx, plan, [&](int64_t, int64_t units) {
         const int64_t per_chain = units / n_chains;
         if (per_chain < 1) return int64_t(0);
         run_and_merge(0, n_chains, lists, sums, [&](int64_t i, SplatList& splats) {
