@@ -61,6 +61,17 @@ std::string capped_cut_warning(const std::string& integrator, const char* what, 
                        : "");
 }
 
+nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {
+    return {{"point_light_seconds", set.seconds},
+            {"omni", set.omni},
+            {"oriented", set.oriented},
+            {"directional", set.directional},
+            {"glossy", set.glossy},
+            {"light_paths", set.light_paths},
+            {"direct", direct.empty() ? "points" : "sample"},
+            {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+}
+
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
                            const PointLightSet& set, double* seconds) {
     auto t0 = std::chrono::steady_clock::now();

@@ -3,6 +3,8 @@
 // light, the light tree over the set, and the settings that choose them.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 
 #include "manylight/direct.h"
@@ -37,6 +39,9 @@ void build_many_lights(const Scene& scene, const ManyLightSettings& settings, Po
 // empty below 10%.
 std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
                                int max_cut, const PointLightSet& set);
+// The --stats figures of the point-light set and the sampled direct light (build time, lights
+// by kind, light paths, direct-light mode), as lightcuts and mdlightcuts report them.
+nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct);
 // The light tree over `set` as `lightcuts` and `mdlightcuts` build it (representatives seeded by
 // lights.seed, the cone weight from the scene's size); *seconds receives the build time.
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,

@@ -1,5 +1,4 @@
 // create_sampler: the names a scene or the command line may ask for.
-#include <bit>
 #include <cmath>
 
 #include "core/error.h"
@@ -24,10 +23,8 @@ std::unique_ptr<Sampler> create_sampler(const std::string& name, int spp, uint64
 uint64_t seed_from(const Sampler& prototype) {
     auto s = prototype.clone();
     s->start_pixel_sample(Point2i{0, 0}, 0, 0);
-    uint32_t a = std::bit_cast<uint32_t>(s->get_1d());
-    uint32_t b = std::bit_cast<uint32_t>(s->get_1d());
-    uint32_t c = std::bit_cast<uint32_t>(s->get_1d());
-    return hash_ints(a, b, c);
+    uint64_t a = uint64_t(s->get_1d() * 16777216.f), c = uint64_t(s->get_1d() * 16777216.f);
+    return hash_ints(a, c);
 }
 
 }  // namespace ml

@@ -65,15 +65,8 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
           {"capped_fraction", capped},
           {"gather_points", n},
           {"shadow_rays_per_pixel", shadow_per_pixel},
-          {"tree_build_seconds", m_tree_seconds},
-          {"point_light_seconds", m_set.seconds},
-          {"omni", m_set.omni},
-          {"oriented", m_set.oriented},
-          {"directional", m_set.directional},
-          {"glossy", m_set.glossy},
-          {"light_paths", m_set.light_paths},
-          {"direct", m_direct.empty() ? "points" : "sample"},
-          {"direct_samples", m_direct.empty() ? 0 : m_direct.samples()}};
+          {"tree_build_seconds", m_tree_seconds}};
+    lc.update(many_light_figures(m_set, m_direct));
     if (m_verify) {
         uint64_t nodes = m_verified_nodes.load();
         double per_node = 1.0 / double(std::max<uint64_t>(1, nodes));

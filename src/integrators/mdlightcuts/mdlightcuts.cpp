@@ -169,28 +169,23 @@ nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int
     double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
     double pixels = double(ctx.film.width()) * ctx.film.height();
     double shadow = double(stats::total().shadow);
-    return {{"samples", m_samples},
-            {"error", m_error},
-            {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
-            {"max_cut", m_max_cut},
-            {"tighten", m_tighten},
-            {"passes", passes},
-            {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
-            {"max_cut_size", m_pair_max.load()},
-            {"capped_fraction", double(m_capped.load()) / pixel_passes},
-            {"gather_points_per_pixel_pass", double(m_gather_points.load()) / pixel_passes},
-            {"shadow_rays_per_pixel", shadow / pixels},
-            {"shadow_rays_per_pixel_pass", shadow / pixel_passes},
-            {"tree_build_seconds", m_tree_seconds},
-            {"gather_tree_seconds", double(m_gather_tree_ns.load()) * 1e-9},
-            {"point_light_seconds", m_set.seconds},
-            {"omni", m_set.omni},
-            {"oriented", m_set.oriented},
-            {"directional", m_set.directional},
-            {"glossy", m_set.glossy},
-            {"light_paths", m_set.light_paths},
-            {"direct", m_direct.empty() ? "points" : "sample"},
-            {"direct_samples", m_direct.empty() ? 0 : m_direct.samples()}};
+    nlohmann::json figures = {
+        {"samples", m_samples},
+        {"error", m_error},
+        {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
+        {"max_cut", m_max_cut},
+        {"tighten", m_tighten},
+        {"passes", passes},
+        {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
+        {"max_cut_size", m_pair_max.load()},
+        {"capped_fraction", double(m_capped.load()) / pixel_passes},
+        {"gather_points_per_pixel_pass", double(m_gather_points.load()) / pixel_passes},
+        {"shadow_rays_per_pixel", shadow / pixels},
+        {"shadow_rays_per_pixel_pass", shadow / pixel_passes},
+        {"tree_build_seconds", m_tree_seconds},
+        {"gather_tree_seconds", double(m_gather_tree_ns.load()) * 1e-9}};
+    figures.update(many_light_figures(m_set, m_direct));
+    return figures;
 }
 
 }  // namespace ml
