@@ -12,6 +12,8 @@ Usage:
 
 --single also runs single-point `lightcuts` (one cut per sample) for the same time.
 `path` takes seeds one above `mdlightcuts`' so that no two images share random numbers.
+--seed also draws the many-light integrators' VPLs and representatives (vpl.seed is left to
+follow it), so each seed is an independent VPL set.
 """
 import argparse
 import json

@@ -237,3 +237,28 @@ TEST_F(Cli, StatsCountNonFiniteSamples) {
     nlohmann::json stats = nlohmann::json::parse(js);
     EXPECT_EQ(stats.at("film").at("nonfinite_samples"), 0) << stats;
 }
+
+// --time-limit is a contract even when one pass, or a Metropolis bootstrap, would take far
+// longer: the loops stop starting work once the time is spent. Each setting below would run for
+// minutes untimed; the render phase must end near the limit (generous slack for a loaded machine).
+TEST_F(Cli, TimeLimitHoldsWhenOnePassWouldTakeMinutes) {
+    const double limit = 0.5;
+    for (const std::string& integrator :
+         {std::string("lightcuts --set vpl.count=20000 --set lightcuts.error=1e-6 "
+                      "--set lightcuts.max_cut=20000 --set lights.direct=points"),
+          std::string("mdlightcuts --set vpl.count=20000 --set mdlightcuts.error=1e-6 "
+                      "--set mdlightcuts.max_cut=20000 --set lights.direct=points"),
+          std::string("pssmlt --set pssmlt.bootstrap=20000000"),
+          std::string("mlt --set mlt.bootstrap=20000000")}) {
+        Result r =
+            run("render --resolution 64x64 --integrator " + integrator + " --time-limit " +
+                std::to_string(limit) + " -o " + path("t.exr") + " --stats " + path("t.json"));
+        ASSERT_EQ(r.code, 0) << integrator << ": " << r.output;
+        std::ifstream js(path("t.json"));
+        std::string text((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+        size_t at = text.find("\"render\": ");
+        ASSERT_NE(at, std::string::npos) << text;
+        double render = std::atof(text.c_str() + at + 10);
+        EXPECT_LT(render, limit + 1.5) << integrator << ": " << text;
+    }
+}

@@ -100,6 +100,11 @@ TEST(SampledDirect, LightcutsWithinTheErrorOfTheExactSum) {
         opt.progress = false;
         opt.set["vpl.count"] = "2000";
         opt.set["lights.direct"] = "sample";
+        opt.set["vpl.clamp"] = "0";
+        if (integrator == "lightcuts") {
+            opt.set["lightcuts.error"] = "0.02";
+            opt.set["lightcuts.max_cut"] = "1000";
+        }
         return render_scene(parse_scene_string(default_scene_text(), "."), opt);
     };
     RenderOutput exact = run("vpl"), lc = run("lightcuts");
@@ -142,6 +147,7 @@ TEST(SampledDirect, InstantRadiosityMatchesThePathTracerAtItsDepth) {
         if (integrator == "vpl") {
             opt.set["vpl.count"] = "4000";
             opt.set["lights.direct"] = "sample";
+            opt.set["vpl.clamp"] = "0";  // clamping takes light away: not the path tracer's
         }
         return render_scene(parse_scene_string(default_scene_text(), "."), opt).image;
     };

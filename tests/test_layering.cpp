@@ -39,10 +39,7 @@ const std::vector<std::vector<std::string>> kLayers = {
 // Libraries wrapped in one place: (include prefix, the files that may include it).
 const std::vector<std::pair<std::string, std::set<std::string>>> kWrappedLibraries = {
     {"embree3/", {"src/geometry/embree_scene.cpp"}},
-    // core/parallel.h wraps TBB. The two others are being changed on another branch (many-light
-    // work); they move to core/parallel.h once that has landed.
-    {"tbb/",
-     {"src/core/parallel.h", "src/manylight/light_tree.cpp", "src/manylight/vpl_generator.cpp"}},
+    {"tbb/", {"src/core/parallel.h"}},
 };
 
 struct Include {

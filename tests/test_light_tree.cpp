@@ -9,6 +9,7 @@
 
 #include "core/rng.h"
 #include "manylight/light_tree.h"
+#include "manylight/representative.h"
 #include "tree_test_helpers.h"
 
 using namespace ml;
@@ -33,6 +34,8 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
         const PointLight& pl = lights[size_t(node.light)];
         EXPECT_EQ(pl.kind, node.kind);
         EXPECT_EQ(node.intensity, pl.intensity);
+        EXPECT_EQ(node.bound_intensity, pl.intensity);
+        EXPECT_EQ(node.weight, selection_weight(pl.intensity));
         (*seen)[size_t(node.light)]++;
         leaves->push_back(node.light);
     } else {
@@ -51,6 +54,10 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
         const LightTreeNode &a = tree.node(node.children[0]), &b = tree.node(node.children[1]);
         RGB sum = a.intensity + b.intensity;
         EXPECT_EQ(node.intensity, sum);
+        // Representatives are drawn by these weights (representative.h); the bound's intensity
+        // holds the sum.
+        EXPECT_EQ(node.weight, a.weight + b.weight);
+        for (int c = 0; c < 3; ++c) EXPECT_GE(node.bound_intensity[c], node.intensity[c]);
     }
     // Every light of the subtree: inside the box and the cone; intensities add up; the
     // representative is one of them.

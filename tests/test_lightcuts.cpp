@@ -33,6 +33,15 @@ RenderOutput render_many(const std::string& integrator, SceneDesc desc, int vpls
     opt.progress = false;
     opt.set["vpl.count"] = std::to_string(vpls);
     opt.set["lights.area_count"] = "256";
+    // One VPL set and tree whatever the render's seed (vpl.seed's default before it followed
+    // --seed): the per-pixel fractions these tests check move from one VPL set to another by
+    // about as much as their margin (lightcuts at 16 spp on cornell_4096: 98.6% to 100% of
+    // pixels within 2% over 13 sets, the old and the new estimator alike).
+    opt.set["vpl.seed"] = "0";
+    // The light set these thresholds were set on: the defaults before issue 13.
+    opt.set["vpl.glossy"] = "bsdf";
+    opt.set["lights.direct"] = "points";
+    opt.set["vpl.clamp"] = "0";
     if (integrator == "lightcuts") {
         opt.set["lightcuts.error"] = std::to_string(cut.error);
         opt.set["lightcuts.criterion"] = cut.criterion;
@@ -145,6 +154,8 @@ TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
         opt.progress = false;
         opt.set["vpl.count"] = "2000";
         opt.set["vpl.glossy"] = glossy;
+        opt.set["lights.direct"] = "points";  // the area lights' points are checked too
+        opt.set["vpl.clamp"] = "0";
         if (std::string(glossy) == "clamped") {
             // Bounds capped by clamping, low enough to matter: a cap of a fifth of n times
             // the clamp makes about 300 violations here.
@@ -216,6 +227,7 @@ AttributeEnd
         if (integrator != "path") {
             opt.set["vpl.count"] = "0";
             opt.set["lights.area_count"] = "1024";
+            opt.set["lights.direct"] = "points";
         }
         return test::render_text(scene, opt).image;
     };

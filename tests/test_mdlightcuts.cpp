@@ -37,6 +37,20 @@ RenderOptions many_light_options(const std::string& integrator, int res, int spp
     opt.progress = false;
     opt.set["vpl.count"] = "2000";
     opt.set["lights.area_count"] = "256";
+    // One VPL set and tree whatever the render's seed (vpl.seed's default before it followed
+    // --seed): the per-pixel fractions these tests check move from one VPL set to another by
+    // about as much as their margin (lightcuts at 16 spp on cornell_4096: 98.6% to 100% of
+    // pixels within 2% over 13 sets, the old and the new estimator alike).
+    opt.set["vpl.seed"] = "0";
+    // The settings these thresholds were set on: the defaults before issue 13.
+    opt.set["vpl.glossy"] = "bsdf";
+    opt.set["lights.direct"] = "points";
+    opt.set["vpl.clamp"] = "0";
+    if (integrator == "mdlightcuts") {
+        opt.set["mdlightcuts.samples"] = "16";
+        opt.set["mdlightcuts.error"] = "0.02";
+        opt.set["mdlightcuts.max_cut"] = "2000";
+    }
     return opt;
 }
 

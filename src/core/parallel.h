@@ -59,7 +59,12 @@ void parallel_for_tiles(int width, int height, int tile, const F& fn) {
                       });
 }
 
-// Sorts [begin, end) by `less`, in parallel; not stable.
+// Sorts [begin, end) in parallel (by operator<, or by `less`); not stable.
+template <typename It>
+void parallel_sort(It begin, It end) {
+    tbb::parallel_sort(begin, end);
+}
+
 template <typename It, typename Less>
 void parallel_sort(It begin, It end, const Less& less) {
     tbb::parallel_sort(begin, end, less);

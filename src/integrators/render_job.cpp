@@ -134,7 +134,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
 
     Film film(width, height, max_component, imaging_ratio);
     Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
-    RenderContext ctx{scene, camera, *filter, film, *sampler, spp, opt.time_limit, &progress};
+    RenderContext ctx{scene, camera, *filter, film, *sampler, spp, opt.time_limit, &progress, seed};
     stats::reset();
     auto t_render = std::chrono::steady_clock::now();
     RenderResult result = integrator->render(ctx);

@@ -109,14 +109,15 @@ RGB material_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, c
 }
 
 RGB node_error_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo) {
-    if (node.intensity.is_black()) return RGB();
+    const RGB& intensity = node.bound_intensity;
+    if (intensity.is_black()) return RGB();
     float g = geometric_bound(node, x);
     if (g == 0) return RGB();
     RGB m = material_bound(node, x, bsdf, wo);
     RGB out;
     // 0 * infinity is 0 here: a channel the BSDF or the lights do not carry has no error.
     for (int c = 0; c < 3; ++c) {
-        float mc = m[c], ic = node.intensity[c];
+        float mc = m[c], ic = intensity[c];
         out[c] = (mc == 0 || ic == 0) ? 0.f : mc * g * ic;
     }
     return out;

@@ -1,6 +1,7 @@
 // Lightcuts' error bounds (Walter et al. 2005, section 4.1): for a shading point x, upper bounds
 // of the geometric term G and of the material term M over every light of a light-tree node, so
-// that the node's error is at most M_ub * G_ub * V_ub * I_node with V_ub = 1.
+// that the node's error is at most M_ub * G_ub * V_ub * I_node with V_ub = 1 (I_node: the node's
+// bound_intensity, which also covers its representatives' estimates).
 //
 // Each bound holds for every light of the node, whatever its position in the node's box and
 // its direction in the node's cone: the exact contribution
@@ -32,9 +33,11 @@ DirectionCone node_direction_cone(const LightTreeNode& node, const Vec3& x);
 // pointing away from x).
 RGB material_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo);
 
-// M_ub * G_ub * intensity: the node's error bound at x, what the cut loop compares with the
-// current estimate. Zero when the node is dark or the BSDF cannot see it; may be +infinity
-// (x inside the box, or a rough dielectric's transmission, see bxdf_bounds.cpp).
+// M_ub * G_ub * bound_intensity: the node's error bound at x, what the cut loop compares with
+// the current estimate. It bounds the exact sum over the node's lights and the node's estimate
+// by any of its representatives (light_tree.h) alike. Zero when the node is dark or the BSDF cannot
+// see it; may be +infinity (x inside the box, or a rough dielectric's transmission, see
+// bxdf_bounds.cpp).
 RGB node_error_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo);
 
 }  // namespace ml

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/rng.h"
+#include "manylight/representative.h"
 
 namespace ml {
 
@@ -31,6 +32,7 @@ int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RG
     }
     if (end - begin == 1) {
         node.point = m_order[size_t(begin)];
+        node.weight = selection_weight(node.strength);
         m_nodes[size_t(id)] = node;
         return id;
     }
@@ -50,9 +52,10 @@ int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RG
     // The children are built, so the order of [begin, end) is final: the uniform of the member
     // at the split position is this node's, and no other node splits there.
     node.bits = uint32_t(double(u[size_t(m_order[size_t(mid)])]) * 4294967296.0);
-    float ll = std::max(0.f, m_nodes[size_t(left)].strength.luminance());
-    float lr = std::max(0.f, m_nodes[size_t(right)].strength.luminance());
-    node.left_probability = ll + lr > 0 ? ll / (ll + lr) : 0.5f;
+    // The probabilities along the path from a node to a member multiply to the member's weight
+    // over the node's, with the very weights the estimate's scale uses.
+    node.weight = m_nodes[size_t(left)].weight + m_nodes[size_t(right)].weight;
+    node.left_probability = node.weight > 0 ? m_nodes[size_t(left)].weight / node.weight : 0.5f;
     m_nodes[size_t(id)] = node;
     return id;
 }

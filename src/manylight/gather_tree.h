@@ -1,13 +1,15 @@
 // The gather tree of Multidimensional Lightcuts (Walter et al. 2006): a binary tree over the
 // gather points of one pixel pass. Every node is a cluster of gather points with their summed
 // RGB strength (the weights w_i the pixel's estimate gives them), the bounding box of their
-// positions and representatives drawn in proportion to strength luminance.
+// positions and representatives drawn in proportion to their selection weights (the strengths'
+// luminance, representative.h).
 //
 // A node has a representative per key (the product cut keys it by the light representative it
 // is paired with): walking down from the node, each internal node picks a child with
 // probability proportional to its strength, using a uniform hashed from the node's own sampler
 // uniform and the key. So
-// - member i is rep(G, key) with probability lum(w_i) / lum(strength_G), for every key;
+// - member i is rep(G, key) with probability selection_weight(w_i) / weight_G, for every key,
+//   and stands for G scaled by weight_G / selection_weight(w_i);
 // - rep(G, key) is rep(C, key) of the child C that holds it: a pair that splits its gather node
 //   keeps its representative's shadow ray in one child;
 // - pairs with different light representatives shade with (nearly) independent gather
@@ -28,11 +30,12 @@ namespace ml {
 struct GatherTreeNode {
     Bounds3 bounds;                  // positions of the node's gather points
     RGB strength;                    // sum of their weights
+    float weight = 0;                // sum of their selection weights (representative.h)
     int32_t begin = 0, end = 0;      // members: GatherTree::members()[begin, end)
     int32_t children[2] = {-1, -1};  // both -1 for a leaf (a single gather point)
     int32_t point = -1;              // a leaf's gather point (index into the input)
     uint32_t bits = 0;               // an internal node's random bits (from its sampler uniform)
-    float left_probability = 0.5f;   // of choosing children[0]: by strength luminance
+    float left_probability = 0.5f;   // of choosing children[0]: its share of `weight`
 
     bool is_leaf() const { return children[0] < 0; }
 };

@@ -1,11 +1,10 @@
 #include "manylight/light_tree.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 
+#include "core/parallel.h"
 #include "core/rng.h"
+#include "manylight/representative.h"
 
 namespace ml {
 
@@ -150,6 +149,7 @@ void LightTree::order_depth_first() {
         std::copy_n(m_reps.begin() + ptrdiff_t(size_t(old_of_new[i]) * kLightTreeReps),
                     kLightTreeReps, m_nodes[i].reps);
     m_reps = {};
+    m_chroma = {};
 }
 
 void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
@@ -178,7 +178,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     Vec3 extent = all.diagonal();
     auto unit = [&](float x, float lo, float e) { return e > 0 ? (x - lo) / e : 0.5f; };
     std::vector<std::pair<uint64_t, int32_t>> keys(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+    parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(ids[k])];
         Vec3 u = directional
                      ? (pl.n + Vec3(1, 1, 1)) * 0.5f
@@ -197,15 +197,16 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         }
         keys[k] = {code, ids[k]};
     });
-    tbb::parallel_sort(keys.begin(), keys.end());
+    parallel_sort(keys.begin(), keys.end());
 
     // 2. One leaf per light, in Morton order.
     const size_t base = m_nodes.size();
     m_nodes.resize(base + n);
     m_reps.resize(m_nodes.size() * kLightTreeReps);
+    m_chroma.resize(m_nodes.size());
     Clusters cl;
     cl.resize(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+    parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(keys[k].second)];
         LightTreeNode& node = m_nodes[base + k];
         node.kind = kind;
@@ -213,6 +214,11 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         std::fill_n(m_reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
                     node.light);
         node.intensity = pl.intensity;
+        node.weight = selection_weight(pl.intensity);
+        node.bound_intensity = pl.intensity;  // the light's own value is exact
+        RGB& chroma = m_chroma[base + k];
+        for (int c = 0; c < 3; ++c)
+            chroma[c] = node.weight > 0 ? pl.intensity[c] / node.weight : 0.f;
         node.clampable = pl.is_vpl ? 1 : 0;
         std::copy_n(pl.falloff, kFalloffBins, node.falloff);
         if (!directional) node.bounds.expand(pl.p);
@@ -221,7 +227,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         cl.box[k] = node.bounds;
         cl.axis[k] = node.cone.axis;
         cl.theta[k] = cone_angle(node.cone);
-        cl.lum[k] = std::max(0.f, node.intensity.luminance());
+        cl.lum[k] = node.weight;
     });
 
     // 3. PLOC: every cluster finds its best partner within the window; mutual best pairs merge
@@ -235,11 +241,11 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     while (cl.size() > 1) {
         size_t m = cl.size();
         costs.resize(m * r);  // only the pairs inside [0, m) are written and read
-        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+        parallel_for(size_t(0), m, [&](size_t i) {
             for (size_t k = 0; k < r && i + 1 + k < m; ++k) costs[i * r + k] = cost(i, i + 1 + k);
         });
         best.assign(m, -1);
-        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+        parallel_for(size_t(0), m, [&](size_t i) {
             // Ascending j with a strict comparison: ties go to the smaller index, which keeps the
             // global best pair mutual.
             float bc = kInfinity;
@@ -276,8 +282,9 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         size_t first_new = m_nodes.size();
         m_nodes.resize(first_new + merges);
         m_reps.resize(m_nodes.size() * kLightTreeReps);
+        m_chroma.resize(m_nodes.size());
         next.resize(kept);
-        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+        parallel_for(size_t(0), m, [&](size_t i) {
             if (next_pos[i] < 0) return;
             size_t p = size_t(next_pos[i]);
             if (new_id[i] < 0) {
@@ -292,6 +299,17 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             node.kind = kind;
             node.children[0] = a, node.children[1] = b;
             node.intensity = na.intensity + nb.intensity;
+            node.weight = na.weight + nb.weight;
+            // Every light's I_c / w_i is at most the node's chroma_c, so both the sum of the
+            // intensities and any representative's I_rep weight / w_rep are at most weight
+            // chroma_c; the margin covers float rounding in the estimate and the bound.
+            RGB& chroma = m_chroma[id];
+            chroma = RGB(std::max(m_chroma[size_t(a)].r, m_chroma[size_t(b)].r),
+                         std::max(m_chroma[size_t(a)].g, m_chroma[size_t(b)].g),
+                         std::max(m_chroma[size_t(a)].b, m_chroma[size_t(b)].b));
+            for (int c = 0; c < 3; ++c)
+                node.bound_intensity[c] =
+                    std::max(node.intensity[c], node.weight * chroma[c] * (1 + 1e-5f));
             // Either child holding a light that is not a VPL makes the sum not clampable (-1).
             node.clampable =
                 (na.clampable > 0 && nb.clampable > 0) ? na.clampable + nb.clampable : -1;
@@ -302,21 +320,21 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             // value scaled by the node's intensity, then never exceeds the node's bound.
             for (int j = 0; j < kFalloffBins; ++j)
                 node.falloff[j] = std::min(na.falloff[j], nb.falloff[j]);
-            // Representative: a child's, with probability proportional to its luminance.
-            float la = std::max(0.f, na.intensity.luminance());
-            float lb = std::max(0.f, nb.intensity.luminance());
+            // Representative: a child's, with probability proportional to its weight. Along the
+            // path from the root to a light the probabilities multiply to w_i / weight, with the
+            // very weights stored in the nodes, which the estimate's scale uses.
             Rng rng(hash_ints(opts.seed, uint64_t(kind), id));
             float u = rng.next_float();
             int32_t* reps = &m_reps[id * kLightTreeReps];
             for (int k = 0; k < kLightTreeReps; ++k) {
                 if (k > 0) u = rng.next_float();
-                bool pick_a = la + lb > 0 ? u * (la + lb) < la : u < 0.5f;
+                bool pick_a = node.weight > 0 ? u * node.weight < na.weight : u < 0.5f;
                 reps[k] = m_reps[size_t(pick_a ? a : b) * kLightTreeReps + size_t(k)];
             }
             node.light = reps[0];
             m_nodes[id] = node;
             next.node[p] = int32_t(id), next.box[p] = node.bounds, next.axis[p] = node.cone.axis;
-            next.theta[p] = cone_angle(node.cone), next.lum[p] = la + lb;
+            next.theta[p] = cone_angle(node.cone), next.lum[p] = node.weight;
         });
         std::swap(cl, next);
     }

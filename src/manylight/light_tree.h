@@ -19,9 +19,10 @@
 namespace ml {
 
 // Independent representatives kept per node: rep k of a node is picked among its lights with
-// probability proportional to intensity, independently for each k, so a gather point that shades
-// with rep k (k drawn from its sampler) makes an error of zero mean, and the samples of a pixel
-// make independent errors that average out (rep 0 is the node's `light`).
+// probability proportional to their selection weight (representative.h: the intensity's
+// luminance), independently for each k, so a gather point that shades with rep k (k drawn from
+// its sampler) makes an error of zero mean in every channel, and the samples of a pixel make
+// independent errors that average out (rep 0 is the node's `light`).
 constexpr int kLightTreeReps = 8;
 
 struct LightTreeNode {
@@ -29,6 +30,15 @@ struct LightTreeNode {
     DirectionCone
         cone;       // oriented, glossy: lobe axes; directional: travel directions; omni: the sphere
     RGB intensity;  // sum of the lights' intensities
+    // Sum of the lights' selection weights: rep k is light i with probability w_i / weight, and
+    // stands for the node scaled by weight / w_i (representative.h).
+    float weight = 0;
+    // Channel by channel, at least both `intensity` and any representative's intensity scaled
+    // to the node (I_rep weight / w_rep): weight times the lights' largest I_c / w_i. Bounds
+    // built on it (bounds.h) hold the exact sum and every possible estimate alike, so they do not
+    // depend on which representative was drawn. Equal to `intensity` where the lights share one
+    // colour; larger where they mix colours, as the estimate's spread is.
+    RGB bound_intensity;
     int32_t children[2] = {-1, -1};  // node indices; both -1 for a leaf
     int32_t light = -1;  // the representative light (a leaf: its light), index into the lights
     PointLightKind kind = PointLightKind::Omni;
@@ -71,13 +81,14 @@ private:
 
     std::vector<LightTreeNode> m_nodes;
     std::vector<int32_t> m_reps;  // kLightTreeReps per node while building (then in the nodes)
+    std::vector<RGB> m_chroma;    // per node while building: its lights' largest I_c / w_i
     int32_t m_roots[kPointLightKinds] = {-1, -1, -1, -1};
     size_t m_light_count = 0;
 };
 
-// The Lightcuts clustering metric of a cluster: I (alpha^2 + c^2 (1 - cos beta)^2), I the
-// luminance of its intensity, alpha the diagonal of its box (0 when no_box), beta its cone's
-// half-angle. Exposed for tests.
+// The Lightcuts clustering metric of a cluster: I (alpha^2 + c^2 (1 - cos beta)^2), I its
+// selection weight (the luminance of its intensity), alpha the diagonal of its box (0 when no_box),
+// beta its cone's half-angle. Exposed for tests.
 float light_cluster_metric(float luminance, const Bounds3& b, float cone_theta, float c,
                            bool no_box);
 

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 #include "manylight/direct.h"
@@ -22,7 +23,15 @@ struct ManyLightSettings {
     // lights.direct=sample: area and infinite lights by next-event estimation
     // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
     int direct_samples = 4;
+    // vpl.seed when given; else lights.seed follows the render's seed (use_render_seed).
+    std::optional<uint64_t> explicit_seed;
     static ManyLightSettings read(const Settings& s);
+    // Sets lights.seed, which every random choice of the point-light set (VPL paths, points on
+    // area lights and environment maps) and of the light tree (representatives) draws from:
+    // vpl.seed if given, else the render's seed (--seed), so that a new --seed gives new VPLs
+    // and representatives. (build_point_light_set hashes it into streams of its own, which never
+    // replay the camera's samples.)
+    void use_render_seed(uint64_t render_seed);
     // A point light's contribution after clamping (VPLs only; the emitters' lights are exact).
     RGB clamped(const RGB& c, bool is_vpl) const {
         if (clamp <= 0 || !is_vpl) return c;

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/rng.h"
 #include "lights/light.h"
 #include "manylight/vpl_generator.h"
 #include "sampling/sampler.h"
@@ -10,6 +11,12 @@
 
 namespace ml {
 namespace {
+
+// The samplers' seed for the point lights of `seed`: hashed, so that a render whose --seed is
+// also the lights' seed (the default, vpl.seed unset) never draws its light paths from the very
+// sequence its camera samples use (an independent sampler of the same seed would give VPL path
+// k the numbers of pixel (k, 0)'s first sample).
+uint64_t stream_seed(uint64_t seed) { return hash_ints(seed, 0x706f696e746c6967ULL); }
 
 // Point lights of the scene's emitters: area lights share options.area_count samples in
 // proportion to power (at least one each), every infinite light gets options.env_count; with
@@ -24,7 +31,7 @@ void add_emitters(const Scene& scene, const PointLightOptions& options, PointLig
         ++area_lights;
     }
     // A separate stream from the VPL paths' (which use sample 0 of their pixels).
-    auto sampler = create_sampler("independent", 1, options.seed);
+    auto sampler = create_sampler("independent", 1, stream_seed(options.seed));
     for (size_t i = 0; i < lights.size(); ++i) {
         const Light& light = *lights[i];
         if (options.sampled_direct && !is_delta_light(light.type())) continue;
@@ -54,7 +61,7 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
         vo.count = options.vpl_count;
         vo.max_depth = options.vpl_max_depth;
         vo.glossy = options.vpl_glossy;
-        vo.seed = options.seed;
+        vo.seed = stream_seed(options.seed);
         generate_vpls(scene, vo, set);
     }
     for (const PointLight& pl : set.lights) {

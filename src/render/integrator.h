@@ -31,6 +31,10 @@ struct RenderContext {
     int spp = 16;            // samples per pixel (the cap when time_limit > 0)
     double time_limit = 0;   // seconds; > 0 renders progressively until spent
     Progress* progress = nullptr;
+    // The render's seed (--seed, else the scene's Sampler "seed"), which the sampler was made
+    // with; integrators with random choices of their own (VPLs, representatives) derive theirs
+    // from it.
+    uint64_t seed = 0;
     // When rendering began: the time limit counts from here, preparation (VPLs, trees) included.
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 

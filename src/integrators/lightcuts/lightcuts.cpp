@@ -8,13 +8,14 @@
 #include "core/stats.h"
 #include "manylight/bounds.h"
 #include "manylight/gather.h"
+#include "manylight/representative.h"
 
 namespace ml {
 
 LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
-    m_error = settings.get_float("error", 0.02f);
-    m_max_cut = settings.get_int("max_cut", 1000);
+    m_error = settings.get_float("error", m_error);
+    m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_verify = settings.get_bool("verify", false);
     m_reps = settings.get_int("reps", kLightTreeReps);
     if (m_reps < 1 || m_reps > kLightTreeReps)
@@ -38,6 +39,7 @@ void LightcutsIntegrator::prepare(const Scene& scene) {
 }
 
 RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
+    m_settings.use_render_seed(ctx.seed);
     m_width = ctx.film.width();
     m_pixel_cut.assign(size_t(ctx.film.width()) * ctx.film.height(), 0.f);
     m_pixel_samples.assign(m_pixel_cut.size(), 0);
@@ -111,8 +113,9 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
 RGB LightcutsIntegrator::error_bound(const RGB& bound, const LightTreeNode& n,
                                      const RGB& estimate) const {
     // The error of two non-negative values is at most the larger. The bounds of bounds.h hold
-    // the estimate too (the representative's value scaled by the node's intensity), but float
-    // rounding may put it a hair above.
+    // the estimate too, whichever representative it is made of (bound_intensity, light_tree.h),
+    // so the cut does not depend on the representatives drawn; the estimate only counts here
+    // where clamping caps the bound, or float rounding puts it a hair above.
     RGB out;
     if (!(m_settings.clamp > 0) || n.clampable <= 0) {
         for (int c = 0; c < 3; ++c) out[c] = std::max(bound[c], estimate[c]);
@@ -146,9 +149,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         float gb = geometric_bound(n, x);
         RGB b;
         for (int c = 0; c < 3; ++c)
-            b[c] = (gb == 0 || m_all[c] == 0 || n.intensity[c] == 0)
+            b[c] = (gb == 0 || m_all[c] == 0 || n.bound_intensity[c] == 0)
                        ? 0.f
-                       : m_all[c] * gb * n.intensity[c];
+                       : m_all[c] * gb * n.bound_intensity[c];
         float l = error_bound(g.beta * b, n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
@@ -156,9 +159,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         float l = error_bound(g.beta * node_error_bound(n, x, g.bsdf, wo), n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
-    // A node stands for its cluster: the representative's value scaled, channel by channel, by
-    // the cluster's intensity over the representative's (by luminance where the representative
-    // has none in a channel).
+    // A node stands for its cluster: the representative's value scaled by the cluster's weight
+    // over its own, the same factor in every channel, which makes the expectation over the
+    // representatives the exact sum whatever the lights' colours (representative.h).
     auto make_entry = [&](int32_t index, int32_t rep, const RGB& rep_value) {
         const LightTreeNode& n = m_tree.node(index);
         CutEntry e{index, rep, 0.f, RGB(), rep_value, true};
@@ -166,10 +169,8 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
             e.estimate = rep_value;  // exact
             return e;
         }
-        const RGB& I_rep = m_set.lights[size_t(rep)].intensity;
-        float lum_ratio = I_rep.luminance() > 0 ? n.intensity.luminance() / I_rep.luminance() : 0;
-        for (int c = 0; c < 3; ++c)
-            e.estimate[c] = rep_value[c] * (I_rep[c] > 0 ? n.intensity[c] / I_rep[c] : lum_ratio);
+        const PointLight& pl = m_set.lights[size_t(rep)];
+        e.estimate = rep_value * representative_scale(n.weight, selection_weight(pl.intensity));
         e.bound = loose_bound(n, e.estimate);
         e.tight = e.bound == 0;
         return e;

@@ -1,17 +1,20 @@
 // Lightcuts (Walter et al. 2005, seed 004): the same point lights as `vpl`, clustered in a light
 // tree; at each gather point a cut through the tree is refined, always splitting the node with
-// the largest error bound, until every node's bound is below `lightcuts.error` (default 2%) of
+// the largest error bound, until every node's bound is below `lightcuts.error` (default 10%) of
 // the current estimate or the cut holds `lightcuts.max_cut` nodes. A node is shaded by its
-// representative light alone (one shadow ray) and stands for the whole cluster's intensity.
+// representative light alone (one shadow ray), scaled by the cluster's luminance over the
+// representative's, so that its expectation is the cluster's exact sum in every channel
+// whatever the lights' colours (manylight/representative.h). The bounds hold every possible
+// estimate, so the cut does not depend on the representatives drawn (without vpl.clamp).
 // Each node keeps `lightcuts.reps` (default 8) representatives, each drawn in proportion to
-// intensity; a gather point shades with the k-th of every node, k drawn from its sampler, so
+// luminance; a gather point shades with the k-th of every node, k drawn from its sampler, so
 // the samples of a pixel make independent errors that average out (1: Walter's one
 // representative, whose error repeats at every sample).
 //
 // `lightcuts.criterion` says when a cut is fine enough:
 // - "max" (default): Walter et al.'s test, every node's bound below the error times the estimate.
 //   Each node's error is then small, but a cut of many nodes can add up to more.
-// - "probable": the representatives are chosen at random in proportion to intensity, so each
+// - "probable": the representatives are chosen at random in proportion to luminance, so each
 //   node's error is zero-mean, independent of the other nodes' and within +-its bound; refining
 //   until 3.26 sqrt(sum of bounds^2) is below the error bounds the whole estimate's error by it
 //   with probability >= 99% (Hoeffding's inequality).
@@ -64,7 +67,8 @@ private:
                     const RGB& estimate) const;
 
     ManyLightSettings m_settings;
-    float m_error = 0.02f;
+    // Defaults: bench/RESULTS.md, "Issue 13: the defaults".
+    float m_error = 0.1f;
     enum class Criterion { Max, Probable, Sum } m_criterion = Criterion::Max;
     const char* criterion_name() const {
         return m_criterion == Criterion::Max ? "max"

@@ -29,9 +29,9 @@ struct MdLightcutsIntegrator::ThreadState {
 
 MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
-    m_samples = settings.get_int("samples", 16);
-    m_error = settings.get_float("error", 0.02f);
-    m_max_cut = settings.get_int("max_cut", 2000);
+    m_samples = settings.get_int("samples", m_samples);
+    m_error = settings.get_float("error", m_error);
+    m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_tighten = settings.get_int("tighten", 1);
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
@@ -51,6 +51,7 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 }
 
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
+    m_settings.use_render_seed(ctx.seed);
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);

@@ -1,5 +1,5 @@
 // Multidimensional Lightcuts (Walter et al. 2006, seed 003), restricted to the samples of one
-// pixel: the S camera samples of a pixel pass (`mdlightcuts.samples`, default 16) are shaded
+// pixel: the S camera samples of a pixel pass (`mdlightcuts.samples`, default 32) are shaded
 // together by one cut through the product of a gather tree over their gather points and the
 // light tree of `lightcuts`, so a pass costs about as many shadow rays as one single-point cut
 // (product_cut.h). The point-light set, clamping and sampled direct light are `vpl`'s and
@@ -42,9 +42,10 @@ private:
     nlohmann::json figures_json(const RenderContext& ctx, int passes) const;
 
     ManyLightSettings m_settings;
-    int m_samples = 16;
-    float m_error = 0.02f;
-    int m_max_cut = 2000;
+    // Defaults: bench/RESULTS.md, "Issue 13: the defaults".
+    int m_samples = 32;
+    float m_error = 0.1f;
+    int m_max_cut = 1000;
     int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
     CutCriterion m_criterion = CutCriterion::Max;
     PointLightSet m_set;

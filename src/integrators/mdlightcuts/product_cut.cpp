@@ -6,6 +6,7 @@
 
 #include "core/cone.h"
 #include "manylight/bounds.h"
+#include "manylight/representative.h"
 
 namespace ml {
 
@@ -26,16 +27,6 @@ float error_bound(const RGB& value_bound, const RGB& estimate) {
     RGB b;
     for (int c = 0; c < 3; ++c) b[c] = std::max(value_bound[c], estimate[c]);
     return bound_luminance(b);
-}
-
-// Channel by channel, whole / part (by luminance where the part has none in a channel): the
-// factor a representative is scaled by to stand for its cluster.
-RGB strength_ratio(const RGB& whole, const RGB& part) {
-    float lp = part.luminance();
-    float lum_ratio = lp > 0 ? whole.luminance() / lp : 0.f;
-    RGB r;
-    for (int c = 0; c < 3; ++c) r[c] = part[c] > 0 ? whole[c] / part[c] : lum_ratio;
-    return r;
 }
 
 constexpr float kSpikeFraction = 0.25f;
@@ -161,7 +152,7 @@ RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points, cons
         }
     }
     for (int c = 0; c < 3; ++c)
-        if (m[c] != 0 && L.intensity[c] != 0) b[c] = m[c] * gb * L.intensity[c];
+        if (m[c] != 0 && L.bound_intensity[c] != 0) b[c] = m[c] * gb * L.bound_intensity[c];
     return b;
 }
 
@@ -173,11 +164,14 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
     const WeightedGatherPoint& gp = points[size_t(grep)];
     ProductPair p{gather, light, grep, lrep, rep_value, RGB(), 0.f, true};
     // The representative pair's value, weighted by the representative's share of the pixel and
-    // scaled to the strengths of both clusters: a * c * (S_G / w_grep) * (I_L / I_lrep).
-    RGB scale(gp.a);
-    if (!G.is_leaf()) scale = scale * strength_ratio(G.strength, gp.w);
+    // scaled to both clusters by their selection weights over the representatives' (the same
+    // factor in every channel, representative.h): a c (W_G / w_grep) (W_L / w_lrep). Its
+    // expectation over the two representatives is the pair's exact sum, whatever the colours.
+    float scale = gp.a;
+    if (!G.is_leaf()) scale *= representative_scale(G.weight, selection_weight(gp.w));
     if (!L.is_leaf())
-        scale = scale * strength_ratio(L.intensity, m_set.lights[size_t(lrep)].intensity);
+        scale *=
+            representative_scale(L.weight, selection_weight(m_set.lights[size_t(lrep)].intensity));
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
     p.bound = error_bound(loose_bound(points, gtree, gather, light), p.estimate);

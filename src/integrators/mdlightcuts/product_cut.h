@@ -12,9 +12,11 @@
 //
 // Representatives: light node L uses its k-th (k drawn per pixel pass), gather node G the one
 // keyed by that light representative (gather_tree.h), so the gather representatives of a cut's
-// pairs are independent of one another and each pair's error has zero mean (exactly so where
-// the lights of a node share one colour: the channel-by-channel scaling, as in lightcuts.cpp, is
-// biased for mixed colours).
+// pairs are independent of one another. Both are drawn in proportion to their selection weights
+// (luminance) and the pair's value is scaled by the clusters' weights over the
+// representatives', one factor for every channel, so each pair's estimate has the pair's exact
+// sum as its expectation in every channel, whatever the colours of lights and throughputs
+// (manylight/representative.h).
 //
 // When the cut is fine enough (`mdlightcuts.criterion`, as `lightcuts.criterion`):
 // - "max" (default): Walter et al.'s test, every pair's bound below the error times the estimate.
