@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "film/image.h"
@@ -24,19 +25,18 @@ int run_diff(const DiffArgs& a) {
     std::vector<BlockDiff> blocks;
     if (a.block > 0) {
         if (ia.width % a.block || ia.height % a.block)
-            throw std::runtime_error("--block: the image size is not a multiple of the block");
+            throw UsageError("--block: the image size is not a multiple of the block");
         blocks = worst_blocks(ia, ib, a.block, 5, 1e-2f, !a.block_average);
     }
     if (a.json) {
-        fmt::print(
-            "{{\"relmse\": {:.6g}, \"rmse\": {:.6g}, \"mean_a\": [{:.6g}, {:.6g}, {:.6g}], "
-            "\"mean_b\": [{:.6g}, {:.6g}, {:.6g}], \"mean_rel_diff\": [{:.6g}, {:.6g}, {:.6g}]",
-            d.rel_mse, d.rmse, d.mean_a.r, d.mean_a.g, d.mean_a.b, d.mean_b.r, d.mean_b.g,
-            d.mean_b.b, d.mean_rel_diff.r, d.mean_rel_diff.g, d.mean_rel_diff.b);
-        if (a.block > 0)
-            fmt::print(", \"worst_block_rel_diff\": {:.6g}",
-                       blocks.empty() ? 0.0 : blocks[0].rel());
-        fmt::print("}}\n");
+        auto rgb = [](const auto& c) { return nlohmann::json{c.r, c.g, c.b}; };
+        nlohmann::json j = {{"relmse", d.rel_mse},
+                            {"rmse", d.rmse},
+                            {"mean_a", rgb(d.mean_a)},
+                            {"mean_b", rgb(d.mean_b)},
+                            {"mean_rel_diff", rgb(d.mean_rel_diff)}};
+        if (a.block > 0) j["worst_block_rel_diff"] = blocks.empty() ? 0.0 : blocks[0].rel();
+        fmt::print("{}\n", j.dump());
     } else {
         fmt::print("relMSE {:.6g}  RMSE {:.6g}\n", d.rel_mse, d.rmse);
         fmt::print("mean A       {:.6g} {:.6g} {:.6g}\n", d.mean_a.r, d.mean_a.g, d.mean_a.b);

@@ -8,7 +8,6 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "integrators/settings.h"
 #include "options.h"
 
 int main(int argc, char** argv) {

@@ -11,8 +11,8 @@
 #include "commands.h"
 #include "integrators/registry.h"
 #include "integrators/render_job.h"
-#include "integrators/settings.h"
 #include "options.h"
+#include "render/settings.h"
 #include "scene/default_scene.h"
 #include "scene/scene_desc.h"
 
@@ -130,8 +130,8 @@ int run_render(const RenderArgs& a) {
         std::string tmp = a.stats + ".tmp";
         {
             std::ofstream js(tmp);
-            js << f.to_json();
-            if (!js) throw std::runtime_error("cannot write " + a.stats);
+            js << f.to_json().dump(1) << "\n";
+            if (!js) throw Error("cannot write " + a.stats);
         }
         std::filesystem::rename(tmp, a.stats);
     }

@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
+#include "bidir/path_vertex.h"
 #include "camera/camera.h"
-#include "integrators/bdpt/path_vertex.h"
 #include "lights/light_sampler.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"

@@ -5,13 +5,13 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "bidir/bdpt_estimator.h"
+#include "bidir/connect.h"
+#include "bidir/subpaths.h"
 #include "bidir_test_helpers.h"
-#include "integrators/bdpt/bdpt_estimator.h"
-#include "integrators/bdpt/connect.h"
-#include "integrators/bdpt/subpaths.h"
-#include "integrators/settings.h"
 #include "lights/light_sampler.h"
 #include "materials/material.h"
+#include "render/settings.h"
 #include "sampling/sampler.h"
 
 using namespace ml;

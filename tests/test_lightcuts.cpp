@@ -77,8 +77,7 @@ ErrorFigures compare_with_exact(Load load, int vpls, int res, const CutOptions& 
     }
     std::sort(f.rel.begin(), f.rel.end());
     f.mean_rel = (sc - se) / se;
-    size_t pos = lc.figures.extra_json.find("avg_cut_size\": ");
-    if (pos != std::string::npos) f.avg_cut = std::atof(lc.figures.extra_json.c_str() + pos + 15);
+    f.avg_cut = lc.figures.integrator_stats.at("lightcuts").at("avg_cut_size").get<double>();
     std::printf(
         "lights %zu (vpls %zu), %s error %.3f, %d spp, %d reps: per-pixel relative error p50 "
         "%.4f p90 %.4f p99 %.4f max %.4f; %.1f%% of pixels within the error; image mean "
@@ -166,17 +165,12 @@ TEST(Lightcuts, NodeErrorsStayWithinTheirBoundsOnTheKitchen) {
         opt.set["lightcuts.verify"] = "true";
         RenderOutput out = render_scene(
             parse_scene_file(ml::test::shared_dir() + "/scenes/kitchen/scene-v4.pbrt"), opt);
-        const std::string& json = out.figures.extra_json;
-        auto number = [&](const std::string& key) {
-            size_t pos = json.find("\"" + key + "\": ");
-            EXPECT_NE(pos, std::string::npos) << key;
-            return pos == std::string::npos ? -1.0 : std::atof(json.c_str() + pos + key.size() + 4);
-        };
-        std::printf("glossy %s: %s\n", glossy, json.c_str());
-        EXPECT_GT(number("nodes"), 10000);
-        EXPECT_EQ(number("violations"), 0);
+        const nlohmann::json& json = out.figures.integrator_stats.at("lightcuts");
+        std::printf("glossy %s: %s\n", glossy, json.dump().c_str());
+        EXPECT_GT(json.at("verify").at("nodes").get<double>(), 10000);
+        EXPECT_EQ(json.at("verify").at("violations").get<double>(), 0);
         if (std::string(glossy) == "bsdf") {
-            EXPECT_GT(number("glossy"), 100) << "glossy VPLs";
+            EXPECT_GT(json.at("glossy").get<double>(), 100) << "glossy VPLs";
         }
     }
 }
@@ -188,10 +182,8 @@ TEST(Lightcuts, WarnsWhenCutsReachTheCap) {
         CutOptions opt;
         opt.max_cut = max_cut;
         RenderOutput out = render_many("lightcuts", cornell(), 500, 8, opt);
-        const std::string& json = out.figures.extra_json;
-        size_t pos = json.find("\"capped_fraction\": ");
-        ASSERT_NE(pos, std::string::npos) << json;
-        double capped = std::atof(json.c_str() + pos + 19);
+        const nlohmann::json& json = out.figures.integrator_stats.at("lightcuts");
+        double capped = json.at("capped_fraction").get<double>();
         bool warned = std::any_of(out.figures.warnings.begin(), out.figures.warnings.end(),
                                   [](const std::string& w) { return w.find("max_cut") != w.npos; });
         if (max_cut == 4) {

@@ -399,7 +399,7 @@ TEST(LightSampler, FrequenciesMatchPowerPmf) {
     EXPECT_GT(chi2::chi2_survival(stat, used - 1), 0.001);
     LightSampler u("uniform", lights);
     EXPECT_EQ(u.pmf(lights[1].get()), 0.25f);
-    EXPECT_THROW(LightSampler("bvh2", lights), std::invalid_argument);
+    EXPECT_THROW(LightSampler("bvh2", lights), UsageError);
     LightSampler empty("power", std::vector<std::unique_ptr<Light>>{});
     EXPECT_FALSE(empty.sample(0.5f));
 }

@@ -5,8 +5,8 @@
 // thread count.
 #include <gtest/gtest.h>
 
-#include "integrators/settings.h"
 #include "integrators/vpl/vpl.h"
+#include "render/settings.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"

@@ -7,10 +7,11 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "camera/camera.h"
 #include "core/rng.h"
 #include "integrators/mdlightcuts/product_cut.h"
-#include "integrators/settings.h"
 #include "manylight/gather_tree.h"
+#include "render/settings.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"
@@ -95,7 +96,8 @@ Agreement compare_with_exact(Load load, int res, int spp, float error,
         a.percentile(0.5), a.percentile(0.9), a.percentile(0.99), a.rel.back(),
         100 * a.fraction_within(error), 100 * a.fraction_within(2.5 * error),
         100 * a.mean.mean / a.mean.reference_mean,
-        100 * a.mean.stderr_of_mean / a.mean.reference_mean, md.figures.extra_json.c_str());
+        100 * a.mean.stderr_of_mean / a.mean.reference_mean,
+        md.figures.integrator_stats.dump().c_str());
     return a;
 }
 
@@ -138,10 +140,8 @@ TEST(MdLightcuts, WarnsWhenCutsReachTheCap) {
         RenderOptions opt = many_light_options("mdlightcuts", 8, 16);
         opt.set["mdlightcuts.max_cut"] = max_cut;
         RenderOutput out = render_scene(cornell_4096(), opt);
-        const std::string& json = out.figures.extra_json;
-        size_t pos = json.find("\"capped_fraction\": ");
-        ASSERT_NE(pos, std::string::npos) << json;
-        double capped = std::atof(json.c_str() + pos + 19);
+        const nlohmann::json& json = out.figures.integrator_stats.at("mdlightcuts");
+        double capped = json.at("capped_fraction").get<double>();
         bool warned = !out.figures.warnings.empty() &&
                       out.figures.warnings.back().find("max_cut") != std::string::npos;
         bool small = std::string(max_cut) == "8";
@@ -160,8 +160,8 @@ TEST(MdLightcuts, PassesRoundUpAndAverage) {
     RenderOptions opt = many_light_options("mdlightcuts", 8, 20);
     RenderOutput out = render_scene(cornell_4096(), opt);
     EXPECT_EQ(out.figures.spp, 32);
-    EXPECT_NE(out.figures.extra_json.find("\"passes\": 2"), std::string::npos)
-        << out.figures.extra_json;
+    EXPECT_EQ(out.figures.integrator_stats.at("mdlightcuts").at("passes"), 2)
+        << out.figures.integrator_stats;
     ASSERT_TRUE(out.aovs.count("cutsize"));
     EXPECT_GT(out.aovs.at("cutsize").pixels[0].r, 1.f);
 }

@@ -10,8 +10,8 @@
 
 #include "bidir_test_helpers.h"
 #include "integrators/mlt/bidir_mutation.h"
-#include "integrators/settings.h"
 #include "lights/light_sampler.h"
+#include "render/settings.h"
 #include "sampling/sampler.h"
 
 using namespace ml;

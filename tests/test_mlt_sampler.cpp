@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "core/error.h"
 #include "sampling/mlt_sampler.h"
 
 using namespace ml;
@@ -65,9 +66,9 @@ TEST(MltSampler, StreamsInterleaveDimensions) {
     // Reading a stream again in the same iteration gives the same values.
     s.start_stream(2);
     EXPECT_EQ(s.get_1d(), l0);
-    EXPECT_THROW(s.start_stream(3), std::out_of_range);
-    EXPECT_THROW(MltSampler(1, 2, 0.f, 0.3f, 3), std::invalid_argument);
-    EXPECT_THROW(MltSampler(1, 2, 0.01f, 1.5f, 3), std::invalid_argument);
+    EXPECT_THROW(s.start_stream(3), InternalError);
+    EXPECT_THROW(MltSampler(1, 2, 0.f, 0.3f, 3), UsageError);
+    EXPECT_THROW(MltSampler(1, 2, 0.01f, 1.5f, 3), UsageError);
 }
 
 TEST(MltSampler, RejectRestoresExactly) {

@@ -12,16 +12,16 @@
 #include <cstring>
 #include <memory>
 
-#include "integrators/common.h"
 #include "integrators/path/path.h"
-#include "integrators/settings.h"
 #include "lights/lights.h"
 #include "manylight/point_light_set.h"
 #include "manylight/vpl_generator.h"
+#include "render/settings.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"
+#include "transport/direct_lighting.h"
 #include "vpl_test_scenes.h"
 
 using namespace ml;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "integrators/settings.h"
+#include "render/settings.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 
@@ -17,10 +17,12 @@ namespace {
 
 // A number from the --stats members: "KEY": VALUE inside the "pssmlt" object.
 double stat(const RenderOutput& out, const std::string& key) {
-    const std::string& json = out.figures.extra_json;
-    size_t at = json.find("\"" + key + "\": ");
-    if (at == std::string::npos) ADD_FAILURE() << "no " << key << " in " << json;
-    return at == std::string::npos ? 0.0 : std::strtod(json.c_str() + at + key.size() + 4, nullptr);
+    const nlohmann::json& stats = out.figures.integrator_stats;
+    if (!stats.contains("pssmlt") || !stats.at("pssmlt").contains(key)) {
+        ADD_FAILURE() << "no " << key << " in " << stats;
+        return 0.0;
+    }
+    return stats.at("pssmlt").at(key).get<double>();
 }
 
 double mean_luminance(const Image& img) {

@@ -11,7 +11,7 @@
 #include "core/rng.h"
 #include "geometry/embree_scene.h"
 #include "lights/lights.h"
-#include "manylight/point_light.h"
+#include "lights/point_lights.h"
 
 using namespace ml;
 

@@ -4,6 +4,7 @@
 
 #include <set>
 
+#include "core/error.h"
 #include "sampling/samplers.h"
 
 namespace ml {
@@ -158,7 +159,7 @@ TEST(Sampler, SobolIntegratesSmoothFunctionsBetter) {
 }
 
 TEST(Sampler, FactoryNames) {
-    EXPECT_THROW(create_sampler("halton-ish", 4, 0), std::invalid_argument);
+    EXPECT_THROW(create_sampler("halton-ish", 4, 0), UsageError);
     EXPECT_EQ(create_sampler("stratified", 8, 0)->samples_per_pixel(), 9);
     EXPECT_EQ(make_stratified_sampler(4, 2, true, 0)->samples_per_pixel(), 8);
 }

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/rng.h"
-#include "manylight/point_light.h"
+#include "lights/point_lights.h"
 
 namespace ml::tree_test {
 

@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "core/math.h"
-#include "scene/params.h"
+#include "core/params.h"
 
 namespace ml {
 

@@ -11,6 +11,17 @@ std::string FileLoc::to_string() const {
     return fmt::format("{}:{}:{}", file, line, column);
 }
 
+namespace {
+
+std::string located(const std::string& message, const std::source_location& where) {
+    return fmt::format("{}:{}: internal error: {}", where.file_name(), where.line(), message);
+}
+
+}  // namespace
+
+InternalError::InternalError(const std::string& message, std::source_location where)
+    : Error(located(message, where)) {}
+
 std::string InputError::formatted() const {
     std::string out = fmt::format("{}: {}", m_loc.to_string(), what());
     if (m_loc.file.empty() || m_loc.line <= 0) return out;

@@ -1,5 +1,7 @@
 #include "film/film.h"
 
+#include "core/assert.h"
+
 namespace ml {
 
 Film::Film(int width, int height, float max_component_value, float imaging_ratio)
@@ -25,6 +27,8 @@ size_t Film::pixels_without_samples() const {
 }
 
 void Film::add_sample(Point2i p, RGB L, float weight) {
+    ML_ASSERT(p.x >= 0 && p.y >= 0 && p.x < m_width && p.y < m_height,
+              fmt::format("pixel ({}, {}) outside the {}x{} film", p.x, p.y, m_width, m_height));
     // Drop what cannot be a radiance (a NaN would poison the pixel), counted for --stats, and
     // clamp, if asked, as pbrt's "maxcomponentvalue" does.
     if (!L.is_finite()) {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/math.h"
-#include "scene/params.h"
+#include "core/params.h"
 
 namespace ml {
 

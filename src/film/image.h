@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/assert.h"
 #include "core/color.h"
 #include "core/error.h"
 
@@ -19,8 +20,14 @@ struct Image {
 
     Image() = default;
     Image(int w, int h) : width(w), height(h), pixels(size_t(w) * h) {}
-    RGB& at(int x, int y) { return pixels[size_t(y) * width + x]; }
-    const RGB& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+    RGB& at(int x, int y) {
+        ML_ASSERT(x >= 0 && y >= 0 && x < width && y < height, "pixel outside the image");
+        return pixels[size_t(y) * width + x];
+    }
+    const RGB& at(int x, int y) const {
+        ML_ASSERT(x >= 0 && y >= 0 && x < width && y < height, "pixel outside the image");
+        return pixels[size_t(y) * width + x];
+    }
 };
 
 // Reads any format OpenImageIO knows (grey images come back as equal RGB); throws InputError
@@ -28,7 +35,7 @@ struct Image {
 Image read_image(const std::string& path, const FileLoc& loc = {});
 
 // Writes by extension: .exr (half float), .pfm (float), .png/.jpg (tone-mapped: clamped, sRGB).
-// Throws std::runtime_error on failure; a failed write leaves no file behind.
+// Throws ml::Error on failure; a failed write leaves no file behind.
 void write_image(const std::string& path, const Image& image);
 
 }  // namespace ml

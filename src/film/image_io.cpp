@@ -69,8 +69,8 @@ void write_image(const std::string& path, const Image& image) {
     bool supported =
         ldr || ext == ".exr" || ext == ".pfm" || ext == ".hdr" || ext == ".tif" || ext == ".tiff";
     if (!supported)
-        throw std::runtime_error("cannot write \"" + path +
-                                 "\": unknown image extension (use .exr, .png or .pfm)");
+        throw Error("cannot write \"" + path +
+                    "\": unknown image extension (use .exr, .png or .pfm)");
     // Write next to the target, then rename: the target appears whole or not at all.
     std::filesystem::path target(path);
     std::filesystem::path tmp = target;
@@ -105,13 +105,13 @@ void write_image(const std::string& path, const Image& image) {
         // The user named `path`: never show the temporary name in the message.
         for (size_t at; (at = err.find(tmp.string())) != std::string::npos;)
             err.replace(at, tmp.string().size(), path);
-        throw std::runtime_error("cannot write \"" + path + "\": " + err);
+        throw Error("cannot write \"" + path + "\": " + err);
     }
     std::error_code ec;
     std::filesystem::rename(tmp, target, ec);
     if (ec) {
         std::filesystem::remove(tmp, ec);
-        throw std::runtime_error("cannot write \"" + path + "\": rename failed");
+        throw Error("cannot write \"" + path + "\": rename failed");
     }
 }
 

@@ -7,9 +7,9 @@ namespace ml {
 
 ImageDiff compare_images(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
-        throw std::runtime_error("images differ in size: " + std::to_string(a.width) + "x" +
-                                 std::to_string(a.height) + " and " + std::to_string(b.width) +
-                                 "x" + std::to_string(b.height));
+        throw UsageError("images differ in size: " + std::to_string(a.width) + "x" +
+                         std::to_string(a.height) + " and " + std::to_string(b.width) + "x" +
+                         std::to_string(b.height));
     ImageDiff d;
     double rel = 0, se = 0, sa[3] = {0, 0, 0}, sb[3] = {0, 0, 0};
     for (size_t i = 0; i < a.pixels.size(); ++i)
@@ -33,7 +33,7 @@ ImageDiff compare_images(const Image& a, const Image& b) {
 
 Image box_downsample(const Image& img, int k) {
     if (k <= 0 || img.width % k || img.height % k)
-        throw std::runtime_error("box_downsample: size is not a multiple of the factor");
+        throw UsageError("box_downsample: size is not a multiple of the factor");
     Image out(img.width / k, img.height / k);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x) {

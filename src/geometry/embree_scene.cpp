@@ -3,8 +3,13 @@
 #include <embree3/rtcore.h>
 
 #include <limits>
+#include <mutex>
+#include <source_location>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
+#include "core/error.h"
 #include "core/stats.h"
 
 namespace ml {
@@ -14,17 +19,58 @@ namespace {
 // whose error bound is zero, so offset_ray_origin leaves it there) computes t = 0 exactly for
 // that plane, which pbrt-v4's intersector rejects (t must exceed its error bound) and so do we.
 constexpr float kTNear = std::numeric_limits<float>::min();
+
+const char* embree_error_name(RTCError code) {
+    switch (code) {
+        case RTC_ERROR_NONE:
+            return "no error";
+        case RTC_ERROR_UNKNOWN:
+            return "unknown error";
+        case RTC_ERROR_INVALID_ARGUMENT:
+            return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION:
+            return "invalid operation";
+        case RTC_ERROR_OUT_OF_MEMORY:
+            return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU:
+            return "unsupported CPU";
+        case RTC_ERROR_CANCELLED:
+            return "cancelled";
+    }
+    return "error";
+}
+
 }  // namespace
 
 struct EmbreeScene::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
+    // The first error Embree reported through its callback, raised by check() as InternalError.
+    // The callback only records it: it runs inside Embree's C API (and on its build threads),
+    // which an exception must not cross.
+    std::mutex mutex;
+    std::string error;
+    static void on_error(void* user, RTCError code, const char* message) {
+        Impl& impl = *static_cast<Impl*>(user);
+        std::lock_guard<std::mutex> lock(impl.mutex);
+        if (impl.error.empty())
+            impl.error = fmt::format("Embree: {}{}{}", embree_error_name(code), message ? ": " : "",
+                                     message ? message : "");
+    }
+    // Raises the error Embree reported since the last check, if any.
+    void check(std::source_location where = std::source_location::current()) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error.empty()) throw InternalError(std::exchange(error, std::string()), where);
+    }
 };
 
 EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
     : m_impl(std::make_unique<Impl>()), m_meshes(meshes) {
     m_impl->device = rtcNewDevice("verbose=0");
-    if (!m_impl->device) throw std::runtime_error("Embree: cannot create a device");
+    if (!m_impl->device)
+        throw InternalError(std::string("Embree: cannot create a device: ") +
+                            embree_error_name(rtcGetDeviceError(nullptr)));
+    rtcSetDeviceErrorFunction(m_impl->device, &Impl::on_error, m_impl.get());
     m_impl->scene = rtcNewScene(m_impl->device);
     rtcSetSceneBuildQuality(m_impl->scene, RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(m_impl->scene, RTC_SCENE_FLAG_ROBUST);
@@ -35,6 +81,7 @@ EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
         // the last vertex, which std::vector's growth gives no promise of, so copy positions).
         float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
             g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.p.size()));
+        m_impl->check();  // vb is null when Embree could not allocate it
         for (size_t k = 0; k < m.p.size(); ++k) {
             vb[3 * k] = m.p[k].x;
             vb[3 * k + 1] = m.p[k].y;
@@ -46,8 +93,10 @@ EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(m_impl->scene, g, unsigned(i));
         rtcReleaseGeometry(g);
+        m_impl->check();
     }
     rtcCommitScene(m_impl->scene);
+    m_impl->check();
 }
 
 EmbreeScene::~EmbreeScene() {

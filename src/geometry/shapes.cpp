@@ -1,8 +1,8 @@
 #include "geometry/shapes.h"
 
-#include <tbb/parallel_for.h>
-
 #include <cmath>
+
+#include "core/parallel.h"
 
 namespace ml {
 
@@ -191,32 +191,30 @@ std::unique_ptr<TriangleMesh> make_disk(const ParameterList& params, const FileL
 
 void transform_mesh(TriangleMesh& mesh, const Transform& to_world, bool reverse_orientation) {
     const size_t nv = mesh.p.size();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, nv, 1 << 14),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                          for (size_t i = r.begin(); i != r.end(); ++i) {
-                              mesh.p[i] = to_world.point(mesh.p[i]);
-                              if (!mesh.n.empty()) {
-                                  Vec3 n = to_world.normal(mesh.n[i]);
-                                  float l = length(n);
-                                  // A zero normal in the file stays zero rather than becoming NaN.
-                                  n = l > 0.f ? n / l : n;
-                                  mesh.n[i] = reverse_orientation ? -n : n;
-                              }
-                          }
-                      });
+    parallel_for_chunks(size_t(0), nv, size_t(1) << 14, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i != end; ++i) {
+            mesh.p[i] = to_world.point(mesh.p[i]);
+            if (!mesh.n.empty()) {
+                Vec3 n = to_world.normal(mesh.n[i]);
+                float l = length(n);
+                // A zero normal in the file stays zero rather than becoming NaN.
+                n = l > 0.f ? n / l : n;
+                mesh.n[i] = reverse_orientation ? -n : n;
+            }
+        }
+    });
     mesh.flip_normals = reverse_orientation != to_world.swaps_handedness();
     if (mesh.n.empty()) return;
     const size_t nt = mesh.triangle_count();
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, nt, 1 << 14), [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t t = r.begin(); t != r.end(); ++t) {
-                uint32_t* v = &mesh.indices[3 * t];
-                Vec3 ns = mesh.n[v[0]] + mesh.n[v[1]] + mesh.n[v[2]];
-                Vec3 ng = cross(mesh.p[v[1]] - mesh.p[v[0]], mesh.p[v[2]] - mesh.p[v[0]]);
-                if (mesh.flip_normals) ng = -ng;
-                if (dot(ng, ns) < 0.f) std::swap(v[1], v[2]);
-            }
-        });
+    parallel_for_chunks(size_t(0), nt, size_t(1) << 14, [&](size_t begin, size_t end) {
+        for (size_t t = begin; t != end; ++t) {
+            uint32_t* v = &mesh.indices[3 * t];
+            Vec3 ns = mesh.n[v[0]] + mesh.n[v[1]] + mesh.n[v[2]];
+            Vec3 ng = cross(mesh.p[v[1]] - mesh.p[v[0]], mesh.p[v[2]] - mesh.p[v[0]]);
+            if (mesh.flip_normals) ng = -ng;
+            if (dot(ng, ns) < 0.f) std::swap(v[1], v[2]);
+        }
+    });
 }
 
 }  // namespace ml

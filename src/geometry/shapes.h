@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "core/math.h"
+#include "core/params.h"
 #include "geometry/mesh.h"
-#include "scene/params.h"
 
 namespace ml {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "integrators/integrator.h"
-#include "integrators/settings.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

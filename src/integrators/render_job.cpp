@@ -1,13 +1,12 @@
 #include "integrators/render_job.h"
 
 #include <fmt/format.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
-#include <cmath>
 
 #include <chrono>
+#include <cmath>
 
 #include "camera/camera.h"
+#include "core/parallel.h"
 #include "core/stats.h"
 #include "film/film.h"
 #include "film/filter.h"
@@ -127,8 +126,8 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     auto sampler = create_sampler(sampler_name, spp, seed);
 
     // Threads, scene build, render.
-    int threads = opt.threads > 0 ? opt.threads : tbb::info::default_concurrency();
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    int threads = opt.threads > 0 ? opt.threads : default_thread_count();
+    ThreadLimit limit(threads);
     auto t_build = std::chrono::steady_clock::now();
     Scene scene(std::move(desc));
     fig.seconds_build = seconds_since(t_build);
@@ -174,30 +173,40 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     // Many-light integrators report the point-light set they shaded with instead.
     if (result.point_lights > 0) fig.point_lights = result.point_lights;
     fig.vpls = result.vpls;
-    fig.extra_json = result.extra_json;
+    fig.integrator_stats = std::move(result.stats);
     fig.warnings.insert(fig.warnings.end(), result.warnings.begin(), result.warnings.end());
     out.aovs = std::move(result.aovs);
     out.debug_images = std::move(result.debug_images);
     return out;
 }
 
-std::string RenderFigures::to_json() const {
+nlohmann::json RenderFigures::to_json() const {
     uint64_t total = rays_closest + rays_shadow;
-    double total_s = seconds_load + seconds_build + seconds_render;
-    return fmt::format(
-        "{{\"integrator\": \"{}\", \"sampler\": \"{}\", \"spp\": {}, \"resolution\": [{}, {}], "
-        "\"threads\": {},\n \"seconds\": {{\"load\": {:.4f}, \"build\": {:.4f}, \"render\": "
-        "{:.4f}, "
-        "\"total\": {:.4f}}},\n \"rays\": {{\"camera\": {}, \"closest\": {}, \"shadow\": {}, "
-        "\"total\": {}}}, \"rays_per_second\": {:.6g},\n \"scene\": {{\"triangles\": {}}}, "
-        "\"lights\": {{\"total\": {}, \"point_lights\": {}, \"vpls\": {}}},\n \"memory\": "
-        "{{\"peak_rss_mb\": {:.1f}}},\n \"film\": {{\"nonfinite_samples\": {}, "
-        "\"pixels_without_samples\": {}}}{}}}\n",
-        integrator, sampler, spp, width, height, threads, seconds_load, seconds_build,
-        seconds_render, total_s, rays_camera, rays_closest, rays_shadow, total,
-        seconds_render > 0 ? double(total) / seconds_render : 0.0, triangles, lights, point_lights,
-        vpls, peak_rss_mb, nonfinite_samples, pixels_without_samples,
-        extra_json.empty() ? "" : ",\n " + extra_json);
+    nlohmann::json j = {
+        {"integrator", integrator},
+        {"sampler", sampler},
+        {"spp", spp},
+        {"resolution", {width, height}},
+        {"threads", threads},
+        {"seconds",
+         {{"load", seconds_load},
+          {"build", seconds_build},
+          {"render", seconds_render},
+          {"total", seconds_load + seconds_build + seconds_render}}},
+        {"rays",
+         {{"camera", rays_camera},
+          {"closest", rays_closest},
+          {"shadow", rays_shadow},
+          {"total", total}}},
+        {"rays_per_second", seconds_render > 0 ? double(total) / seconds_render : 0.0},
+        {"scene", {{"triangles", triangles}}},
+        {"lights", {{"total", lights}, {"point_lights", point_lights}, {"vpls", vpls}}},
+        {"memory", {{"peak_rss_mb", peak_rss_mb}}},
+        {"film",
+         {{"nonfinite_samples", nonfinite_samples},
+          {"pixels_without_samples", pixels_without_samples}}}};
+    for (const auto& [key, value] : integrator_stats.items()) j[key] = value;
+    return j;
 }
 
 }  // namespace ml

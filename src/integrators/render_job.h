@@ -2,6 +2,8 @@
 // tests both go through here, so what the tests check is what users run.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -33,13 +35,15 @@ struct RenderFigures {
     double seconds_load = 0, seconds_build = 0, seconds_render = 0;
     uint64_t rays_camera = 0, rays_closest = 0, rays_shadow = 0;
     size_t triangles = 0, lights = 0, point_lights = 0, vpls = 0;
-    std::string extra_json;          // integrator-specific members of the --stats object
+    // Integrator-specific members of the --stats object, by name (RenderResult::stats).
+    nlohmann::json integrator_stats = nlohmann::json::object();
     std::string output_hint;         // the Film's "filename", if any
     double peak_rss_mb = 0;          // peak resident memory of the process, filled in by the caller
     uint64_t nonfinite_samples = 0;  // samples the film dropped: a NaN or infinite channel
     size_t pixels_without_samples = 0;  // pixels the time limit left without a camera sample
     std::vector<std::string> warnings;  // for the user: settings that were not honoured
-    std::string to_json() const;
+    // The --stats object.
+    nlohmann::json to_json() const;
 };
 
 struct RenderOutput {

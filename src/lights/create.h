@@ -4,10 +4,10 @@
 #include <memory>
 #include <string>
 
+#include "core/params.h"
 #include "film/image.h"
 #include "geometry/mesh.h"
 #include "lights/light.h"
-#include "scene/params.h"
 
 namespace ml {
 

@@ -2,7 +2,7 @@
 // (O(log n) in the CDF), then a uniform point on it, so the area density is 1 / total area
 // everywhere and pdf_li needs only the hit point and its normal.
 #include "lights/lights.h"
-#include "manylight/point_light_set.h"
+#include "lights/point_lights.h"
 #include "sampling/distributions.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"

@@ -1,7 +1,7 @@
 // Directional (distant) lights; light paths start on a disk the size of the scene's bounding
 // sphere, facing the light.
 #include "lights/lights.h"
-#include "manylight/point_light_set.h"
+#include "lights/point_lights.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 

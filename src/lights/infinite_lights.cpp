@@ -3,7 +3,7 @@
 // pixels. Lookups are nearest-pixel (as pbrt-v4), so the sampling density is exactly
 // proportional to the sampled function within each pixel.
 #include "lights/lights.h"
-#include "manylight/point_light_set.h"
+#include "lights/point_lights.h"
 #include "sampling/distributions.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"

@@ -1,6 +1,6 @@
 #include "lights/light_sampler.h"
 
-#include <stdexcept>
+#include "core/error.h"
 
 namespace ml {
 
@@ -19,7 +19,7 @@ LightSampler::LightSampler(const std::string& name,
 
 void LightSampler::build() {
     if (m_name != "uniform" && m_name != "power")
-        throw std::invalid_argument("unknown light sampler \"" + m_name + "\"");
+        throw UsageError("unknown light sampler \"" + m_name + "\"");
     if (m_lights.empty()) return;
     std::vector<float> w(m_lights.size(), 1.f);
     if (m_name == "power")

@@ -23,7 +23,7 @@ struct SampledLight {
 
 class LightSampler {
 public:
-    // "uniform" or "power"; throws std::invalid_argument for other names.
+    // "uniform" or "power"; throws UsageError for other names.
     LightSampler(const std::string& name, std::span<const Light* const> lights);
     LightSampler(const std::string& name, const std::vector<std::unique_ptr<Light>>& lights);
 

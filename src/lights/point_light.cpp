@@ -1,6 +1,6 @@
 // Isotropic point lights.
 #include "lights/lights.h"
-#include "manylight/point_light_set.h"
+#include "lights/point_lights.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 

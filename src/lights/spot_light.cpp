@@ -1,6 +1,6 @@
 // Spot lights with pbrt-v4's smoothstep falloff between the inner and outer cone.
 #include "lights/lights.h"
-#include "manylight/point_light_set.h"
+#include "lights/point_lights.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 

@@ -1,7 +1,7 @@
 #include "manylight/direct.h"
 
-#include "integrators/common.h"
 #include "lights/light.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 

@@ -1,7 +1,7 @@
 #include "manylight/gather.h"
 
-#include "integrators/common.h"
 #include "materials/material.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 

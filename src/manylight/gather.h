@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "core/scratch.h"
-#include "manylight/point_light.h"
+#include "lights/point_lights.h"
 #include "materials/bsdf.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"

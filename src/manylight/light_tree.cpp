@@ -1,10 +1,8 @@
 #include "manylight/light_tree.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 
+#include "core/parallel.h"
 #include "core/rng.h"
 #include "manylight/representative.h"
 
@@ -180,7 +178,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     Vec3 extent = all.diagonal();
     auto unit = [&](float x, float lo, float e) { return e > 0 ? (x - lo) / e : 0.5f; };
     std::vector<std::pair<uint64_t, int32_t>> keys(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+    parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(ids[k])];
         Vec3 u = directional
                      ? (pl.n + Vec3(1, 1, 1)) * 0.5f
@@ -199,7 +197,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         }
         keys[k] = {code, ids[k]};
     });
-    tbb::parallel_sort(keys.begin(), keys.end());
+    parallel_sort(keys.begin(), keys.end());
 
     // 2. One leaf per light, in Morton order.
     const size_t base = m_nodes.size();
@@ -208,7 +206,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     m_chroma.resize(m_nodes.size());
     Clusters cl;
     cl.resize(n);
-    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+    parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(keys[k].second)];
         LightTreeNode& node = m_nodes[base + k];
         node.kind = kind;
@@ -243,11 +241,11 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     while (cl.size() > 1) {
         size_t m = cl.size();
         costs.resize(m * r);  // only the pairs inside [0, m) are written and read
-        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+        parallel_for(size_t(0), m, [&](size_t i) {
             for (size_t k = 0; k < r && i + 1 + k < m; ++k) costs[i * r + k] = cost(i, i + 1 + k);
         });
         best.assign(m, -1);
-        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+        parallel_for(size_t(0), m, [&](size_t i) {
             // Ascending j with a strict comparison: ties go to the smaller index, which keeps the
             // global best pair mutual.
             float bc = kInfinity;
@@ -286,7 +284,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
         m_reps.resize(m_nodes.size() * kLightTreeReps);
         m_chroma.resize(m_nodes.size());
         next.resize(kept);
-        tbb::parallel_for(size_t(0), m, [&](size_t i) {
+        parallel_for(size_t(0), m, [&](size_t i) {
             if (next_pos[i] < 0) return;
             size_t p = size_t(next_pos[i]);
             if (new_id[i] < 0) {

@@ -14,7 +14,7 @@
 #include "core/color.h"
 #include "core/cone.h"
 #include "core/math.h"
-#include "manylight/point_light.h"
+#include "lights/point_lights.h"
 
 namespace ml {
 

@@ -1,18 +1,16 @@
 #include "manylight/vpl_generator.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
-#include "integrators/common.h"
+#include "core/parallel.h"
 #include "lights/light_sampler.h"
 #include "manylight/point_light_set.h"
 #include "materials/material.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 #include "scene/scene.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 namespace {
@@ -269,11 +267,9 @@ void generate_vpls(const Scene& scene, const VplOptions& options, PointLightSet&
             wave = std::min(chunks.size() * 2, max_chunks - chunks.size());
         size_t begin = chunks.size();
         chunks.resize(begin + wave);
-        tbb::parallel_for(tbb::blocked_range<size_t>(begin, begin + wave, 1),
-                          [&](const tbb::blocked_range<size_t>& r) {
-                              for (size_t c = r.begin(); c != r.end(); ++c)
-                                  tracer.trace_chunk(c, chunks[c]);
-                          });
+        parallel_for_chunks(begin, begin + wave, size_t(1), [&](size_t b, size_t e) {
+            for (size_t c = b; c != e; ++c) tracer.trace_chunk(c, chunks[c]);
+        });
         for (size_t c = begin; c < chunks.size(); ++c) total += chunks[c].lights.size();
     }
 

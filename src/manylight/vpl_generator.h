@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "manylight/point_light.h"
+#include "lights/point_lights.h"
 
 namespace ml {
 

@@ -6,10 +6,10 @@
 #include <memory>
 #include <string>
 
+#include "core/params.h"
 #include "film/image.h"
 #include "materials/material.h"
 #include "materials/texture.h"
-#include "scene/params.h"
 
 namespace ml {
 

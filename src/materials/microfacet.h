@@ -18,10 +18,12 @@ public:
         // A nearly smooth but not delta distribution is numerically fragile; pbrt-v4 treats
         // alpha < 1e-3 as a mirror and clamps just above it otherwise.
         if (!effectively_smooth()) {
-            m_alpha_x = std::max(m_alpha_x, 1e-4f);
-            m_alpha_y = std::max(m_alpha_y, 1e-4f);
+            m_alpha_x = std::max(m_alpha_x, kMinAlpha);
+            m_alpha_y = std::max(m_alpha_y, kMinAlpha);
         }
     }
+    // The least roughness of a distribution that is not effectively smooth.
+    static constexpr float kMinAlpha = 1e-4f;
     bool effectively_smooth() const { return std::max(m_alpha_x, m_alpha_y) < 1e-3f; }
     float alpha_x() const { return m_alpha_x; }
     float alpha_y() const { return m_alpha_y; }

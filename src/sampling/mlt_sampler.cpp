@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+
+#include "core/error.h"
 
 namespace ml {
 
@@ -46,10 +47,10 @@ MltSampler::MltSampler(uint64_t seed, uint64_t index, float sigma, float large_s
       m_stream_count(stream_count),
       m_mutations_per_pixel(mutations_per_pixel) {
     if (!(sigma > 0) || !std::isfinite(sigma))
-        throw std::invalid_argument("MltSampler: sigma must be positive");
+        throw UsageError("MltSampler: sigma must be positive");
     if (!(large_step_prob >= 0 && large_step_prob <= 1))
-        throw std::invalid_argument("MltSampler: large step probability must be in [0, 1]");
-    if (stream_count < 1) throw std::invalid_argument("MltSampler: needs at least one stream");
+        throw UsageError("MltSampler: large step probability must be in [0, 1]");
+    if (stream_count < 1) throw UsageError("MltSampler: needs at least one stream");
 }
 
 void MltSampler::start_iteration() {
@@ -74,7 +75,7 @@ void MltSampler::reject() {
 
 void MltSampler::start_stream(int index) {
     if (index < 0 || index >= m_stream_count)
-        throw std::out_of_range("MltSampler: stream index out of range");
+        throw InternalError("MltSampler: stream index out of range");
     m_stream = index;
     m_stream_sample = 0;
 }

@@ -32,7 +32,12 @@ public:
 };
 
 // "independent", "stratified", "sobol" (Owen-scrambled, padded 2D Sobol'): throws
-// std::invalid_argument for an unknown name.
+// UsageError for an unknown name.
 std::unique_ptr<Sampler> create_sampler(const std::string& name, int spp, uint64_t seed);
+
+// A seed for randomness that is not per pixel (Markov chains), read through the render's sampler
+// so that the sampler stays the only source of randomness: a hash of the first two numbers of
+// pixel (0, 0) (24 bits of each), which every sampler derives from its seed.
+uint64_t seed_from(const Sampler& prototype);
 
 }  // namespace ml

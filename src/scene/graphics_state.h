@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/params.h"
 #include "geometry/mesh.h"
-#include "scene/params.h"
 
 namespace ml {
 

@@ -1,10 +1,9 @@
 #include "scene/scene_builder.h"
 
-#include <tbb/parallel_for.h>
-
 #include <exception>
 #include <filesystem>
 
+#include "core/parallel.h"
 #include "geometry/ply.h"
 #include "geometry/shapes.h"
 #include "lights/create.h"
@@ -345,7 +344,7 @@ SceneDesc SceneBuilder::finish() {
 
     // Step 2: world-space meshes. A source used once is moved, an instanced one copied.
     m_desc.meshes.resize(m_shapes.size());
-    tbb::parallel_for(size_t(0), m_shapes.size(), [&](size_t i) {
+    parallel_for(size_t(0), m_shapes.size(), [&](size_t i) {
         const ShapeRecord& r = m_shapes[i];
         MeshSource& s = m_sources[r.source];
         auto mesh = s.uses == 1 ? std::move(s.mesh) : std::make_unique<TriangleMesh>(*s.mesh);

@@ -3,13 +3,12 @@
 // that become the SceneDesc. The parser (parser.cpp) calls one method per directive.
 #pragma once
 
-#include <tbb/task_group.h>
-
 #include <deque>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "materials/create.h"
 #include "scene/graphics_state.h"
 #include "scene/scene_desc.h"
@@ -87,7 +86,7 @@ private:
     ImageCache m_images;
     // A deque: PLY reads running in m_loads hold pointers to their sources while more are added.
     std::deque<MeshSource> m_sources;
-    tbb::task_group m_loads;
+    TaskGroup m_loads;
     std::vector<ShapeRecord> m_shapes;
     std::map<std::string, ObjectDef> m_objects;
     ObjectDef* m_current_object = nullptr;  // inside ObjectBegin ... ObjectEnd

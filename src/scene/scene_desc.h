@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "core/params.h"
 #include "geometry/mesh.h"
 #include "lights/light.h"
 #include "materials/material.h"
 #include "materials/texture.h"
-#include "scene/params.h"
 
 namespace ml {
 

@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
+#include "bidir/connect.h"
+#include "bidir/subpaths.h"
 #include "core/stats.h"
-#include "integrators/bdpt/connect.h"
-#include "integrators/bdpt/subpaths.h"
 
 namespace ml {
 

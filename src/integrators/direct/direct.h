@@ -5,8 +5,8 @@
 // glossy/specular chains.
 #pragma once
 
-#include "integrators/integrator.h"
-#include "integrators/settings.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

@@ -57,31 +57,28 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     double capped = n ? double(m_capped.load()) / double(n) : 0.0;
     std::string warning = capped_cut_warning(name(), "gather points", capped, m_max_cut, m_set);
     if (!warning.empty()) r.warnings.push_back(warning);
-    std::string verify;
+    nlohmann::json& lc = r.stats["lightcuts"];
+    lc = {{"error", m_error},
+          {"criterion", criterion_name()},
+          {"reps", m_reps},
+          {"max_cut", m_max_cut},
+          {"avg_cut_size", avg},
+          {"max_cut_size", m_cut_max.load()},
+          {"capped_fraction", capped},
+          {"gather_points", n},
+          {"shadow_rays_per_pixel", shadow_per_pixel},
+          {"tree_build_seconds", m_tree_seconds}};
+    lc.update(many_light_figures(m_set, m_direct));
     if (m_verify) {
         uint64_t nodes = m_verified_nodes.load();
         double per_node = 1.0 / double(std::max<uint64_t>(1, nodes));
-        verify = fmt::format(
-            ", \"verify\": {{\"nodes\": {}, \"violations\": {}, \"mean_abs_node_error\": {:.4g}, "
-            "\"mean_node_bound\": {:.4g}, \"mean_rel_error\": {:.4g}}}",
-            nodes, m_violations.load(), m_verify_abs_error.load() * per_node,
-            m_verify_bounds.load() * per_node,
-            m_verify_total.load() / double(std::max<uint64_t>(1, n)));
+        lc["verify"] = {
+            {"nodes", nodes},
+            {"violations", m_violations.load()},
+            {"mean_abs_node_error", m_verify_abs_error.load() * per_node},
+            {"mean_node_bound", m_verify_bounds.load() * per_node},
+            {"mean_rel_error", m_verify_total.load() / double(std::max<uint64_t>(1, n))}};
     }
-    r.extra_json = fmt::format(
-        "\"lightcuts\": {{\"error\": {}, \"criterion\": \"{}\", \"reps\": {}, \"max_cut\": {}, "
-        "\"avg_cut_size\": "
-        "{:.2f}, "
-        "\"max_cut_size\": {}, \"capped_fraction\": {:.4f}, \"gather_points\": {}, "
-        "\"shadow_rays_per_pixel\": {:.1f}, "
-        "\"tree_build_seconds\": {:.4f}, "
-        "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
-        "\"glossy\": {}, "
-        "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}{}}}",
-        m_error, criterion_name(), m_reps, m_max_cut, avg, m_cut_max.load(), capped, n,
-        shadow_per_pixel, m_tree_seconds, m_set.seconds, m_set.omni, m_set.oriented,
-        m_set.directional, m_set.glossy, m_set.light_paths, m_direct.empty() ? "points" : "sample",
-        m_direct.empty() ? 0 : m_direct.samples(), verify);
     // The cut-size heat map: the mean cut size of each pixel's gather points.
     Image cut(ctx.film.width(), ctx.film.height());
     for (size_t i = 0; i < m_pixel_cut.size(); ++i)

@@ -24,11 +24,11 @@
 #include <atomic>
 #include <vector>
 
-#include "integrators/integrator.h"
-#include "integrators/settings.h"
-#include "integrators/vpl/vpl.h"
 #include "manylight/gather.h"
 #include "manylight/light_tree.h"
+#include "manylight/many_lights.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

@@ -1,6 +1,6 @@
 #include "integrators/lighttracer/lighttracer.h"
 
-#include "integrators/bdpt/subpaths.h"
+#include "bidir/subpaths.h"
 
 namespace ml {
 

@@ -10,9 +10,9 @@
 
 #include <memory>
 
-#include "integrators/bdpt/path_vertex.h"
-#include "integrators/bdpt/splat_render.h"
-#include "integrators/settings.h"
+#include "bidir/path_vertex.h"
+#include "render/settings.h"
+#include "render/splat_integrator.h"
 
 namespace ml {
 

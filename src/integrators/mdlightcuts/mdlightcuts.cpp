@@ -1,17 +1,16 @@
 #include "integrators/mdlightcuts/mdlightcuts.h"
 
 #include <fmt/format.h>
-#include <tbb/blocked_range2d.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
 
+#include "core/parallel.h"
 #include "core/stats.h"
 #include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
+#include "render/render_loop.h"
 
 namespace ml {
 
@@ -59,58 +58,22 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_pixel_passes_done.assign(m_pixel_pairs.size(), 0);
     m_pair_sum = 0, m_pixel_passes = 0, m_gather_points = 0, m_gather_tree_ns = 0, m_pair_max = 0;
     m_capped = 0;
-    tbb::enumerable_thread_specific<ThreadState> states([&] {
+    ThreadLocal<ThreadState> states([&] {
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
     });
-    auto elapsed = [&] { return ctx.elapsed(); };
-
-    // Rounds of passes [p0, p1): all passes at once for a sample count; under a time limit,
-    // rounds sized (at most 4x the last) to end in time, as PixelIntegrator does with samples.
+    // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
+    // takes samples).
     const int passes = (ctx.spp + m_samples - 1) / m_samples;
-    int done = 0;
-    int round = ctx.time_limit > 0 ? 1 : passes;
-    std::atomic<int64_t> rows_done{0};
-    std::atomic<bool> cut_short{false};
-    const int64_t total_rows = int64_t(h) * passes;
-    while (done < passes) {
-        int p0 = done, p1 = std::min(passes, done + round);
-        double round_start = elapsed();
-        tbb::parallel_for(
-            tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
-                if (ctx.out_of_time()) {
-                    cut_short = true;
-                    return;
-                }  // as PixelIntegrator: the time limit holds
-                ThreadState& ts = states.local();
-                for (int y = r.rows().begin(); y < r.rows().end(); ++y) {
-                    if (y > r.rows().begin() && ctx.out_of_time()) {
-                        cut_short = true;
-                        return;
-                    }
-                    for (int x = r.cols().begin(); x < r.cols().end(); ++x)
-                        for (int p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, {x, y}, p);
-                    if (ctx.progress) {
-                        int64_t n = int64_t(p1 - p0) * r.cols().size() / w;
-                        int64_t rd = rows_done.fetch_add(n) + n;
-                        ctx.progress->set_fraction(ctx.time_limit > 0
-                                                       ? elapsed() / ctx.time_limit
-                                                       : double(rd) / double(total_rows));
-                    }
-                }
-            });
-        if (cut_short) break;  // the round was cut short: it does not count
-        done = p1;
-        if (ctx.time_limit > 0) {
-            round = next_round_size(p1 - p0, elapsed() - round_start, elapsed(), ctx.time_limit);
-            if (round < 1) break;
-        }
-    }
+    const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
+        ThreadState& ts = states.local();
+        for (int64_t p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, pixel, int(p));
+    }));
 
     RenderResult result;
     result.spp = done * m_samples;
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
-    result.extra_json = figures_json(ctx, done);
+    result.stats["mdlightcuts"] = figures_json(ctx, done);
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning = capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set);
     if (!warning.empty()) result.warnings.push_back(warning);
@@ -203,27 +166,27 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     ++m_pixel_passes_done[i];
 }
 
-std::string MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {
+nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {
     double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
     double pixels = double(ctx.film.width()) * ctx.film.height();
     double shadow = double(stats::total().shadow);
-    return fmt::format(
-        "\"mdlightcuts\": {{\"samples\": {}, \"error\": {}, \"criterion\": \"{}\", "
-        "\"max_cut\": {}, \"tighten\": {}, \"passes\": {}, "
-        "\"avg_cut_size\": {:.2f}, \"max_cut_size\": {}, \"capped_fraction\": {:.4f}, "
-        "\"gather_points_per_pixel_pass\": "
-        "{:.2f}, \"shadow_rays_per_pixel\": {:.1f}, \"shadow_rays_per_pixel_pass\": {:.1f}, "
-        "\"tree_build_seconds\": {:.4f}, \"gather_tree_seconds\": {:.4f}, "
-        "\"point_light_seconds\": {:.4f}, \"omni\": {}, \"oriented\": {}, \"directional\": {}, "
-        "\"glossy\": {}, "
-        "\"light_paths\": {}, \"direct\": \"{}\", \"direct_samples\": {}}}",
-        m_samples, m_error, m_criterion == CutCriterion::Max ? "max" : "sum", m_max_cut, m_tighten,
-        passes, double(m_pair_sum.load()) / pixel_passes, m_pair_max.load(),
-        double(m_capped.load()) / pixel_passes, double(m_gather_points.load()) / pixel_passes,
-        shadow / pixels, shadow / pixel_passes, m_tree_seconds,
-        double(m_gather_tree_ns.load()) * 1e-9, m_set.seconds, m_set.omni, m_set.oriented,
-        m_set.directional, m_set.glossy, m_set.light_paths, m_direct.empty() ? "points" : "sample",
-        m_direct.empty() ? 0 : m_direct.samples());
+    nlohmann::json figures = {
+        {"samples", m_samples},
+        {"error", m_error},
+        {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
+        {"max_cut", m_max_cut},
+        {"tighten", m_tighten},
+        {"passes", passes},
+        {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
+        {"max_cut_size", m_pair_max.load()},
+        {"capped_fraction", double(m_capped.load()) / pixel_passes},
+        {"gather_points_per_pixel_pass", double(m_gather_points.load()) / pixel_passes},
+        {"shadow_rays_per_pixel", shadow / pixels},
+        {"shadow_rays_per_pixel_pass", shadow / pixel_passes},
+        {"tree_build_seconds", m_tree_seconds},
+        {"gather_tree_seconds", double(m_gather_tree_ns.load()) * 1e-9}};
+    figures.update(many_light_figures(m_set, m_direct));
+    return figures;
 }
 
 }  // namespace ml

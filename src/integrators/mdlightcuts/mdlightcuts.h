@@ -17,13 +17,13 @@
 #include <atomic>
 #include <vector>
 
-#include "integrators/integrator.h"
 #include "integrators/mdlightcuts/product_cut.h"
-#include "integrators/settings.h"
-#include "integrators/vpl/vpl.h"
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
+#include "manylight/many_lights.h"
 #include "manylight/point_light_set.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 
@@ -39,7 +39,7 @@ private:
     // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1) added to the film.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                            int pass) const;
-    std::string figures_json(const RenderContext& ctx, int passes) const;
+    nlohmann::json figures_json(const RenderContext& ctx, int passes) const;
 
     ManyLightSettings m_settings;
     // Defaults: bench/RESULTS.md, "Issue 13: the defaults".

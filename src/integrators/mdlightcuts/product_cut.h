@@ -38,10 +38,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "integrators/vpl/vpl.h"
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
 #include "manylight/light_tree.h"
+#include "manylight/many_lights.h"
 #include "manylight/point_light_set.h"
 
 namespace ml {

@@ -3,10 +3,10 @@
 #include <cmath>
 #include <vector>
 
-#include "integrators/bdpt/subpaths.h"
-#include "integrators/common.h"
+#include "bidir/subpaths.h"
 #include "lights/light_sampler.h"
 #include "sampling/warps.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 

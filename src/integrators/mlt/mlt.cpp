@@ -1,19 +1,15 @@
 #include "integrators/mlt/mlt.h"
 
-#include <fmt/format.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
-#include <chrono>
 #include <numeric>
 
-#include "core/rng.h"
-#include "film/splat_filter.h"
+#include "core/parallel.h"
 #include "integrators/mlt/bidir_mutation.h"
 #include "integrators/mlt/coherent.h"
 #include "integrators/mlt/mutations.h"
 #include "lights/light_sampler.h"
+#include "render/render_loop.h"
+#include "render/splats.h"
 
 namespace ml {
 
@@ -44,23 +40,15 @@ namespace {
 // Streams of the chains' sampler: bootstrap paths and chain mutations never share numbers.
 constexpr int kBootstrapRow = 1 << 20;
 
-// The render's seed, read through its sampler: the first numbers of pixel (0, 0).
-uint64_t seed_from(const Sampler& prototype) {
-    auto s = prototype.clone();
-    s->start_pixel_sample(Point2i{0, 0}, 0, 0);
-    uint64_t a = uint64_t(s->get_1d() * 16777216.f), c = uint64_t(s->get_1d() * 16777216.f);
-    return hash_ints(a, c);
-}
+// Mutations per segment: chains run a segment in parallel, then their splats are summed in
+// chain order. Bounds the splat lists (three per mutation at most, 20 bytes each).
+constexpr int64_t kMaxSegmentMutations = int64_t(1) << 20;
+constexpr int64_t kFirstTimedSegmentMutations = int64_t(1) << 14;
 
 float importance_of(const RGB& c) {
     float y = c.luminance();
     return std::isfinite(y) && y > 0 ? y : 0.f;
 }
-
-struct Splat {
-    Vec2 p;  // raster position
-    RGB v;
-};
 
 // One chain: its current path (BSDFs in one of two scratch buffers; proposals are made in the
 // other, and the buffers trade places when a proposal is accepted).
@@ -89,9 +77,8 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     const int depths = m_max_depth + 1;
     // Chains draw many numbers per path: an independent sampler seeded from the render's.
     auto prototype = create_sampler("independent", 1, seed_from(ctx.sampler));
-    tbb::enumerable_thread_specific<std::unique_ptr<Sampler>> samplers(
-        [&] { return prototype->clone(); });
-    tbb::enumerable_thread_specific<ScratchBuffer> scratches;
+    ThreadLocal<std::unique_ptr<Sampler>> samplers([&] { return prototype->clone(); });
+    ThreadLocal<ScratchBuffer> scratches;
     RenderResult result;
     result.spp = ctx.spp;
 
@@ -104,7 +91,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     const int chunk = ctx.time_limit > 0 ? 4096 : n_bootstrap;
     for (int i0 = 0; i0 < n_bootstrap; i0 += chunk) {
         const int i1 = std::min(n_bootstrap, i0 + chunk);
-        tbb::parallel_for(i0, i1, [&](int i) {
+        parallel_for(i0, i1, [&](int i) {
             Sampler& sampler = *samplers.local();
             ScratchBuffer& scratch = scratches.local();
             for (int d = 0; d < depths; ++d) {
@@ -144,7 +131,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         sampler.start_pixel_sample(Point2i{i, kBootstrapRow + d}, 0);
         int strategy = -1;
         auto x = sample_bdpt_path(bctx, sampler, d, *ch.current, &strategy);
-        if (!x) throw std::logic_error(name() + ": a bootstrap path could not be made again");
+        if (!x) throw InternalError(name() + ": a bootstrap path could not be made again");
         ch.x = std::move(*x);
         ch.W = proposal_weight(bctx, ch.x, strategy);
         ch.colour = ch.W / importance_of(ch.W);
@@ -154,27 +141,23 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     //    order afterwards, so the image does not depend on the schedule.
     std::vector<int64_t> budget(static_cast<size_t>(n_chains), total / n_chains);
     for (int c = 0; c < int(total % n_chains); ++c) ++budget[size_t(c)];
-    std::vector<std::vector<Splat>> splats(static_cast<size_t>(n_chains));
-    std::vector<double> sum(size_t(pixels) * 3, 0.0);
+    std::vector<std::vector<Splat>> lists(static_cast<size_t>(n_chains));
     const SplatFilter spread(ctx.filter, w, h, ctx.film.splat_clamp());
-    const int64_t segment =
-        std::max<int64_t>(1, (int64_t(1) << (ctx.time_limit > 0 ? 16 : 20)) / n_chains);
-    int64_t done = 0;
-    auto elapsed = [&] { return ctx.elapsed(); };  // the bootstrap counts against the limit
-    while (done < total) {
-        const double segment_start = elapsed();
-        tbb::parallel_for(0, n_chains, [&](int c) {
+    SplatSums sums(w, h, spread);
+    RoundPlan plan;
+    plan.total = total;
+    plan.most = std::max<int64_t>(1, kMaxSegmentMutations / n_chains) * n_chains;
+    plan.first_timed = std::max<int64_t>(1, kFirstTimedSegmentMutations / n_chains) * n_chains;
+    const int64_t done = run_rounds(ctx, plan, [&](int64_t done_before, int64_t units) {
+        const int64_t per_chain = units / n_chains;
+        if (per_chain < 1) return int64_t(0);
+        run_and_merge(0, n_chains, lists, sums, [&](int64_t c, SplatList& splats) {
             Chain& ch = chains[size_t(c)];
             Sampler& sampler = *samplers.local();
-            std::vector<Splat>& out = splats[size_t(c)];
-            auto splat = [&](const Vec2& p_raster, const RGB& v) {
-                if (p_raster.x >= 0 && p_raster.y >= 0 && p_raster.x < float(w) &&
-                    p_raster.y < float(h) && !v.is_black() && v.is_finite())
-                    out.push_back(Splat{p_raster, v});
-            };
-            int64_t end = std::min(budget[size_t(c)], ch.next + segment);
+            int64_t end = std::min(budget[size_t(c)], ch.next + per_chain);
             for (; ch.next < end; ++ch.next) {
-                sampler.start_pixel_sample(Point2i{c, 0}, int(ch.next % (int64_t(1) << 30)), 0);
+                sampler.start_pixel_sample(Point2i{int(c), 0}, int(ch.next % (int64_t(1) << 30)),
+                                           0);
                 ch.spare->reset();
                 float u = sampler.get_1d();
                 std::optional<Proposal> p;
@@ -196,10 +179,11 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 ++ch.chosen_by[kind];
                 float a = p ? p->accept : 0.f, share = p && p->n_tries ? p->tries_share : a;
                 if (p && p->n_tries)
-                    for (int i = 0; i < p->n_tries; ++i) splat(p->tries[i].p_raster, p->tries[i].v);
+                    for (int i = 0; i < p->n_tries; ++i)
+                        splats.add(p->tries[i].p_raster, p->tries[i].v);
                 else if (p)
-                    splat(p->y.p_raster, p->colour * a);
-                splat(ch.x.p_raster, ch.colour * (1 - share));
+                    splats.add(p->y.p_raster, p->colour * a);
+                splats.add(ch.x.p_raster, ch.colour * (1 - share));
                 if (p && sampler.get_1d() < a) {
                     ch.x = std::move(p->y);
                     ch.colour = p->colour;
@@ -210,30 +194,13 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 }
             }
         });
-        for (int c = 0; c < n_chains; ++c) {
-            for (const Splat& s : splats[size_t(c)])
-                spread.spread(s.p, s.v, [&](size_t pixel, const RGB& v) {
-                    for (int k = 0; k < 3; ++k) sum[3 * pixel + k] += v[k];
-                });
-            splats[size_t(c)].clear();
-        }
-        done = 0;
-        for (int c = 0; c < n_chains; ++c) done += chains[size_t(c)].next;
-        if (ctx.progress)
-            ctx.progress->set_fraction(ctx.time_limit > 0 ? elapsed() / ctx.time_limit
-                                                          : double(done) / double(total));
-        // Under a time limit, every chain has run the same number of mutations at the end of
-        // a segment: stop there when another segment would end past the time.
-        if (ctx.time_limit > 0 && elapsed() + (elapsed() - segment_start) >= ctx.time_limit) break;
-    }
+        int64_t now = 0;
+        for (const Chain& ch : chains) now += ch.next;
+        return now - done_before;
+    });
 
     // 4. Each mutation splatted a total of one: b * pixels / mutations scales to the image.
-    const double scale = b * double(pixels) / double(done);
-    for (int64_t p = 0; p < pixels; ++p) {
-        RGB v(float(sum[3 * size_t(p)] * scale), float(sum[3 * size_t(p) + 1] * scale),
-              float(sum[3 * size_t(p) + 2] * scale));
-        if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
-    }
+    sums.add_to_film(ctx.film, b * double(pixels) / double(done));
     int64_t accepted = 0, chosen_by[4] = {0, 0, 0, 0}, accepted_by[4] = {0, 0, 0, 0};
     for (const Chain& c : chains) {
         accepted += c.accepted;
@@ -244,18 +211,19 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     // Per mutation: how often it was chosen and the share of those accepted ("bidirectional" is
     // the partial one, "whole" the whole-path replacement).
     const char* names[4] = {"bidirectional", "lens", "caustic", "whole"};
-    std::string proposed, acceptance;
+    nlohmann::json proposed = nlohmann::json::object(), acceptance = nlohmann::json::object();
     for (int k = 0; k < 4; ++k) {
-        proposed += fmt::format("{}\"{}\": {}", k ? ", " : "", names[k], chosen_by[k]);
-        acceptance += fmt::format("{}\"{}\": {:.4f}", k ? ", " : "", names[k],
-                                  rate(accepted_by[k], chosen_by[k]));
+        proposed[names[k]] = chosen_by[k];
+        acceptance[names[k]] = rate(accepted_by[k], chosen_by[k]);
     }
-    result.extra_json = fmt::format(
-        "\"{}\": {{\"b\": {:.6g}, \"chains\": {}, \"mutations\": {}, \"acceptance\": {:.4f}, "
-        "\"bidirectional\": \"{}\", \"whole_prob\": {}, \"proposed\": {{{}}}, "
-        "\"acceptance_by_mutation\": {{{}}}}}",
-        name(), b, n_chains, done, rate(accepted, done), m_partial ? "partial" : "whole",
-        m_partial ? m_whole_prob : 1.f, proposed, acceptance);
+    result.stats[name()] = {{"b", b},
+                            {"chains", n_chains},
+                            {"mutations", done},
+                            {"acceptance", rate(accepted, done)},
+                            {"bidirectional", m_partial ? "partial" : "whole"},
+                            {"whole_prob", m_partial ? m_whole_prob : 1.f},
+                            {"proposed", proposed},
+                            {"acceptance_by_mutation", acceptance}};
     result.spp = int(done / pixels);
     return result;
 }

@@ -40,8 +40,8 @@
 // (splats).
 #pragma once
 
-#include "integrators/integrator.h"
-#include "integrators/settings.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

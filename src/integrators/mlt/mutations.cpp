@@ -2,11 +2,11 @@
 
 #include <thread>
 
-#include "integrators/bdpt/connect.h"
-#include "integrators/bdpt/subpaths.h"
-#include "integrators/common.h"
+#include "bidir/connect.h"
+#include "bidir/subpaths.h"
 #include "materials/material.h"
 #include "sampling/warps.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 
@@ -30,6 +30,10 @@ float importance_of(const RGB& c) {
     float y = c.luminance();
     return std::isfinite(y) && y > 0 ? y : 0.f;
 }
+
+// The caustic perturbation turns the direction leaving the first non-specular vertex by an angle
+// between these (radians), as Veach suggests (thesis, section 11.4.3).
+constexpr float kCausticAngleMin = 1e-4f, kCausticAngleMax = 0.1f;
 
 // An exponentially distributed size between lo and hi (density proportional to 1 / size).
 float exponential_size(float u, float lo, float hi) {
@@ -235,7 +239,7 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
 
     // The direction leaving m, turned by a small angle.
     Vec3 w = dir(vm, x.v[size_t(m - 1)]);
-    float theta = exponential_size(u_size, 1e-4f, 0.1f);
+    float theta = exponential_size(u_size, kCausticAngleMin, kCausticAngleMax);
     float phi = 2 * kPi * u_angle;
     Vec3 w2 = Frame::from_z(w).to_world(spherical_direction(std::sin(theta), std::cos(theta), phi));
     Ray ray{vm.on_surface() ? vm.si.offset_origin(w2) : vm.p(), w2};

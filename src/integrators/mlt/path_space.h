@@ -14,7 +14,7 @@
 #include <optional>
 #include <vector>
 
-#include "integrators/bdpt/path_vertex.h"
+#include "bidir/path_vertex.h"
 
 namespace ml {
 

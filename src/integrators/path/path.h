@@ -3,9 +3,9 @@
 // unbiased reference every other integrator is checked against.
 #pragma once
 
-#include "integrators/integrator.h"
-#include "integrators/settings.h"
 #include "lights/light_sampler.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

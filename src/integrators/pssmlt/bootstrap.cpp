@@ -1,10 +1,9 @@
 #include "integrators/pssmlt/bootstrap.h"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
+
+#include "core/parallel.h"
 
 namespace ml {
 
@@ -18,22 +17,21 @@ Bootstrap::Bootstrap(const PrimaryEstimator& estimator, const MltParams& params,
                      const std::function<bool()>& stop) {
     const size_t depths = size_t(estimator.depth_count());
     std::vector<float> importance(size_t(n) * depths, 0.f);
-    tbb::enumerable_thread_specific<ScratchBuffer> scratch;
+    ThreadLocal<ScratchBuffer> scratch;
     // Paths [p0, p1) of every stratum at a time: all of them at once without `stop`.
     const int chunk = stop ? 4096 : n;
     for (int p0 = 0; p0 < n; p0 += chunk) {
         const int p1 = std::min(n, p0 + chunk);
-        tbb::parallel_for(tbb::blocked_range<size_t>(size_t(p0) * depths, size_t(p1) * depths, 256),
-                          [&](const tbb::blocked_range<size_t>& r) {
-                              ScratchBuffer& buf = scratch.local();
-                              for (size_t i = r.begin(); i < r.end(); ++i) {
-                                  MltSampler sampler = bootstrap_sampler(params, estimator, i);
-                                  int depth = int(i % depths);
-                                  importance[i] =
-                                      mlt_importance(estimator.sample(sampler, depth, buf).L);
-                                  buf.reset();
-                              }
-                          });
+        parallel_for_chunks(
+            size_t(p0) * depths, size_t(p1) * depths, size_t(256), [&](size_t begin, size_t end) {
+                ScratchBuffer& buf = scratch.local();
+                for (size_t i = begin; i < end; ++i) {
+                    MltSampler sampler = bootstrap_sampler(params, estimator, i);
+                    int depth = int(i % depths);
+                    importance[i] = mlt_importance(estimator.sample(sampler, depth, buf).L);
+                    buf.reset();
+                }
+            });
         if (p1 < n && stop && stop()) {
             n = p1;
             importance.resize(size_t(n) * depths);

@@ -16,27 +16,18 @@ uint64_t starting_path(const Bootstrap& bootstrap, uint64_t index, uint64_t coun
 }  // namespace
 
 MarkovChain::MarkovChain(const PrimaryEstimator& estimator, const Bootstrap& bootstrap,
-                         const MltParams& params, uint64_t index, uint64_t count, int width,
-                         int height)
+                         const MltParams& params, uint64_t index, uint64_t count)
     : m_estimator(estimator),
-      m_width(width),
-      m_height(height),
       m_rng(hash_ints(params.seed, index, 0x636861696e /* "chain" */), 0),
       m_start(starting_path(bootstrap, index, count, m_rng)),
       m_sampler(bootstrap_sampler(params, estimator, m_start)),
       m_depth(int(m_start % uint64_t(estimator.depth_count()))) {}
 
-void MarkovChain::splat(const PrimaryPathSample& s, float weight,
-                        std::vector<ChainSplat>& out) const {
-    if (!(weight > 0)) return;
-    const Vec2& p = s.p_raster;
-    if (!(p.x >= 0 && p.y >= 0 && p.x < float(m_width) && p.y < float(m_height))) return;
-    RGB v = s.L * weight;
-    if (!v.is_finite() || v.is_black()) return;
-    out.push_back(ChainSplat{p, v});
+void MarkovChain::splat(const PrimaryPathSample& s, float weight, SplatList& out) const {
+    if (weight > 0) out.add(s.p_raster, s.L * weight);
 }
 
-void MarkovChain::run(int64_t n, std::vector<ChainSplat>& out, ScratchBuffer& scratch) {
+void MarkovChain::run(int64_t n, SplatList& out, ScratchBuffer& scratch) {
     if (!m_started) {
         // 1. Re-evaluate the starting path: the sampler replays the bootstrap's numbers.
         m_current = m_estimator.sample(m_sampler, m_depth, scratch);

@@ -8,33 +8,28 @@
 #include <vector>
 
 #include "integrators/pssmlt/bootstrap.h"
+#include "render/splats.h"
 
 namespace ml {
-
-// A contribution to one pixel, before the image's scale b / (mutations per pixel).
-struct ChainSplat {
-    Vec2 p;  // raster position
-    RGB v;
-};
 
 class MarkovChain {
 public:
     // Chain `index` of `count` in the render with `params`: its starting path and its random
     // numbers depend on (params.seed, index, count) only.
     MarkovChain(const PrimaryEstimator& estimator, const Bootstrap& bootstrap,
-                const MltParams& params, uint64_t index, uint64_t count, int width, int height);
-    // Runs `n` mutations, appending their splats to `out`.
-    void run(int64_t n, std::vector<ChainSplat>& out, ScratchBuffer& scratch);
+                const MltParams& params, uint64_t index, uint64_t count);
+    // Runs `n` mutations, adding their splats (before the image's scale b / (mutations per
+    // pixel)) to `out`.
+    void run(int64_t n, SplatList& out, ScratchBuffer& scratch);
 
     int64_t proposed() const { return m_proposed; }
     int64_t accepted() const { return m_accepted; }
     int depth() const { return m_depth; }
 
 private:
-    void splat(const PrimaryPathSample& s, float weight, std::vector<ChainSplat>& out) const;
+    void splat(const PrimaryPathSample& s, float weight, SplatList& out) const;
 
     const PrimaryEstimator& m_estimator;
-    int m_width, m_height;
     Rng m_rng;         // the chain's own choices: the starting path and acceptance
     uint64_t m_start;  // the bootstrap path it starts from
     MltSampler m_sampler;

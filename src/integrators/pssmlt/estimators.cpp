@@ -1,10 +1,10 @@
 // The two estimators a pssmlt chain can explore: BDPT's paths of one depth (the default) and the
 // path tracer.
+#include "bidir/bdpt_estimator.h"
 #include "core/stats.h"
-#include "integrators/bdpt/bdpt_estimator.h"
 #include "integrators/path/path.h"
 #include "integrators/pssmlt/estimator.h"
-#include "integrators/settings.h"
+#include "render/settings.h"
 
 namespace ml {
 

@@ -1,14 +1,9 @@
 #include "integrators/pssmlt/pssmlt.h"
 
-#include <fmt/format.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
-#include <bit>
-#include <chrono>
-
-#include "film/splat_filter.h"
+#include "core/parallel.h"
 #include "integrators/pssmlt/chain.h"
+#include "render/render_loop.h"
+#include "render/splats.h"
 
 namespace ml {
 
@@ -31,19 +26,8 @@ PssmltIntegrator::PssmltIntegrator(const Settings& settings) {
 
 namespace {
 
-// The render's seed, read through its sampler (the only source of randomness): the first
-// numbers of pixel (0, 0), which every sampler derives from its seed.
-uint64_t seed_from(const Sampler& prototype) {
-    auto s = prototype.clone();
-    s->start_pixel_sample(Point2i{0, 0}, 0, 0);
-    uint32_t a = std::bit_cast<uint32_t>(s->get_1d());
-    uint32_t b = std::bit_cast<uint32_t>(s->get_1d());
-    uint32_t c = std::bit_cast<uint32_t>(s->get_1d());
-    return hash_ints(a, b, c);
-}
-
 // Mutations per segment: chains run a segment in parallel, then their splats are summed in
-// chain order. Bounds the splat lists (two per mutation at most, 16 bytes each).
+// chain order. Bounds the splat lists (two per mutation at most, 20 bytes each).
 constexpr int64_t kMaxSegmentMutations = int64_t(1) << 20;
 constexpr int64_t kFirstTimedSegmentMutations = int64_t(1) << 14;
 
@@ -53,10 +37,6 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     const int w = ctx.film.width(), h = ctx.film.height();
     const int64_t pixels = int64_t(w) * h;
     const bool timed = ctx.time_limit > 0;
-    auto start = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
     MltParams params = m_params;
     params.seed = seed_from(ctx.sampler);
     auto estimator = make_primary_estimator(m_estimator, ctx.scene, ctx.camera, m_max_depth);
@@ -64,25 +44,29 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     // 1. Bootstrap: the image's mean luminance b and the chains' starting paths.
     // Under a time limit the bootstrap takes at most its share of the time.
     std::function<bool()> bootstrap_stop;
-    if (timed) bootstrap_stop = [&] { return elapsed() > kBootstrapTimeShare * ctx.time_limit; };
+    if (timed)
+        bootstrap_stop = [&] { return ctx.elapsed() > kBootstrapTimeShare * ctx.time_limit; };
     Bootstrap bootstrap(*estimator, params, m_bootstrap, bootstrap_stop);
-    double seconds_bootstrap = elapsed();
+    double seconds_bootstrap = ctx.elapsed();
     RenderResult result;
     auto stats_json = [&](int64_t mutations, int64_t accepted, int64_t chains) {
-        return fmt::format(
-            "\"pssmlt\": {{\"estimator\": \"{}\", \"b\": {:.6g}, \"b_stderr\": {:.4g}, "
-            "\"bootstrap\": {}, \"chains\": {}, \"mutations\": {}, "
-            "\"mutations_per_pixel\": {:.4g}, \"acceptance\": {:.4f}, "
-            "\"large_step_prob\": {}, \"sigma\": {}, \"seconds_bootstrap\": {:.3f}}}",
-            m_estimator, bootstrap.b(), bootstrap.b_stderr(), bootstrap.paths_per_stratum(), chains,
-            mutations, double(mutations) / double(pixels),
-            mutations ? double(accepted) / mutations : 0.0, params.large_step_prob, params.sigma,
-            seconds_bootstrap);
+        return nlohmann::json{
+            {"estimator", m_estimator},
+            {"b", bootstrap.b()},
+            {"b_stderr", bootstrap.b_stderr()},
+            {"bootstrap", bootstrap.paths_per_stratum()},
+            {"chains", chains},
+            {"mutations", mutations},
+            {"mutations_per_pixel", double(mutations) / double(pixels)},
+            {"acceptance", mutations ? double(accepted) / double(mutations) : 0.0},
+            {"large_step_prob", params.large_step_prob},
+            {"sigma", params.sigma},
+            {"seconds_bootstrap", seconds_bootstrap}};
     };
     if (!(bootstrap.b() > 0)) {
         // No path carries light: the image is black, whatever the budget.
         result.spp = timed ? 0 : ctx.spp;
-        result.extra_json = stats_json(0, 0, 0);
+        result.stats["pssmlt"] = stats_json(0, 0, 0);
         return result;
     }
 
@@ -93,68 +77,43 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     std::vector<int64_t> remaining(size_t(n_chains), total / n_chains);
     chains.reserve(size_t(n_chains));
     for (int64_t i = 0; i < n_chains; ++i) {
-        chains.emplace_back(*estimator, bootstrap, params, uint64_t(i), uint64_t(n_chains), w, h);
+        chains.emplace_back(*estimator, bootstrap, params, uint64_t(i), uint64_t(n_chains));
         if (i < total % n_chains) ++remaining[size_t(i)];
     }
 
-    // 3. Segments: every chain runs up to `per_chain` mutations in parallel, then the splats
-    //    are summed in chain order, so the sum never depends on the schedule. Under a time
-    //    limit, segments grow (at most 4x) to fill what is left of the time.
-    std::vector<std::vector<ChainSplat>> splats(static_cast<size_t>(n_chains));
-    std::vector<double> sum(size_t(pixels) * 3, 0.0);
+    // 3. Segments: every chain runs up to `units / n_chains` mutations in parallel, then the
+    //    splats are summed in chain order (run_and_merge), so the sum never depends on the
+    //    schedule; under a time limit the render loop sizes the segments to end in time.
+    std::vector<std::vector<Splat>> lists(static_cast<size_t>(n_chains));
     const SplatFilter spread(ctx.filter, w, h, ctx.film.splat_clamp());
-    tbb::enumerable_thread_specific<ScratchBuffer> scratch;
-    int64_t per_chain = std::max<int64_t>(
-        1, (timed ? kFirstTimedSegmentMutations : kMaxSegmentMutations) / n_chains);
-    int64_t done = 0;
-    for (;;) {
-        double segment_start = elapsed();
-        std::vector<int64_t> ran(size_t(n_chains), 0);
-        tbb::parallel_for(tbb::blocked_range<int64_t>(0, n_chains, 1),
-                          [&](const tbb::blocked_range<int64_t>& r) {
-                              for (int64_t i = r.begin(); i < r.end(); ++i) {
-                                  size_t k = size_t(i);
-                                  ran[k] = std::min(per_chain, remaining[k]);
-                                  chains[k].run(ran[k], splats[k], scratch.local());
-                                  remaining[k] -= ran[k];
-                              }
-                          });
+    SplatSums sums(w, h, spread);
+    ThreadLocal<ScratchBuffer> scratch;
+    RoundPlan plan;
+    plan.total = total;
+    plan.most = std::max<int64_t>(1, kMaxSegmentMutations / n_chains) * n_chains;
+    plan.first_timed = std::max<int64_t>(1, kFirstTimedSegmentMutations / n_chains) * n_chains;
+    std::vector<int64_t> ran(size_t(n_chains), 0);
+    const int64_t done = run_rounds(ctx, plan, [&](int64_t, int64_t units) {
+        const int64_t per_chain = units / n_chains;
+        if (per_chain < 1) return int64_t(0);
+        run_and_merge(0, n_chains, lists, sums, [&](int64_t i, SplatList& splats) {
+            size_t k = size_t(i);
+            ran[k] = std::min(per_chain, remaining[k]);
+            chains[k].run(ran[k], splats, scratch.local());
+            remaining[k] -= ran[k];
+        });
         int64_t segment = 0;
-        for (size_t k = 0; k < size_t(n_chains); ++k) {
-            for (const ChainSplat& s : splats[k])
-                spread.spread(s.p, s.v, [&](size_t pixel, const RGB& v) {
-                    for (int c = 0; c < 3; ++c) sum[3 * pixel + c] += v[c];
-                });
-            splats[k].clear();
-            segment += ran[k];
-        }
-        done += segment;
-        if (done >= total || segment == 0) break;
-        if (ctx.progress)
-            ctx.progress->set_fraction(timed ? elapsed() / ctx.time_limit
-                                             : double(done) / double(total));
-        if (timed) {
-            double per_mutation = (elapsed() - segment_start) / double(segment);
-            double left = ctx.time_limit - elapsed();
-            double next = std::min(
-                {4.0 * double(segment), 0.95 * left / per_mutation, double(kMaxSegmentMutations)});
-            per_chain = int64_t(next / double(n_chains));
-            if (per_chain < 1) break;
-        }
-    }
+        for (int64_t r : ran) segment += r;
+        return segment;
+    });
 
     // 4. The image: each mutation splatted a total importance of 1, so b * pixels / done
     //    scales the splats to mean luminance b. Added once per pixel, from one thread.
-    double scale = bootstrap.b() * double(pixels) / double(done);
-    for (int64_t p = 0; p < pixels; ++p) {
-        RGB v(float(sum[3 * size_t(p)] * scale), float(sum[3 * size_t(p) + 1] * scale),
-              float(sum[3 * size_t(p) + 2] * scale));
-        if (!v.is_black()) ctx.film.add_splat(Vec2(float(p % w) + 0.5f, float(p / w) + 0.5f), v);
-    }
+    sums.add_to_film(ctx.film, bootstrap.b() * double(pixels) / double(done));
     int64_t accepted = 0;
     for (const MarkovChain& c : chains) accepted += c.accepted();
     result.spp = int(done / pixels);
-    result.extra_json = stats_json(done, accepted, n_chains);
+    result.stats["pssmlt"] = stats_json(done, accepted, n_chains);
     return result;
 }
 

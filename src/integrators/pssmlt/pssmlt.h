@@ -9,9 +9,9 @@
 // count: each chain's randomness is its own, and splats are summed in chain order.
 #pragma once
 
-#include "integrators/integrator.h"
 #include "integrators/pssmlt/bootstrap.h"
-#include "integrators/settings.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

@@ -3,8 +3,8 @@
 // lights with one light sample each), no glossy or diffuse interreflection.
 #pragma once
 
-#include "integrators/integrator.h"
-#include "integrators/settings.h"
+#include "render/integrator.h"
+#include "render/settings.h"
 
 namespace ml {
 

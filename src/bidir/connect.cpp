@@ -1,4 +1,4 @@
-#include "integrators/bdpt/connect.h"
+#include "bidir/connect.h"
 
 #include <optional>
 #include <type_traits>

@@ -1,7 +1,7 @@
-#include "integrators/bdpt/subpaths.h"
+#include "bidir/subpaths.h"
 
-#include "integrators/common.h"
 #include "materials/material.h"
+#include "transport/direct_lighting.h"
 
 namespace ml {
 

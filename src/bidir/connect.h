@@ -3,7 +3,7 @@
 // could have made the same path.
 #pragma once
 
-#include "integrators/bdpt/path_vertex.h"
+#include "bidir/path_vertex.h"
 #include "sampling/sampler.h"
 
 namespace ml {

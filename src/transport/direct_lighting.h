@@ -1,27 +1,15 @@
-// Pieces the radiance integrators share: MIS weights, next-event estimation, spawning rays.
+// Direct light, as every radiance estimator (integrators/, manylight/) gathers it: next-event
+// estimation from a surface, and emission found by a ray, each weighted by MIS against the other.
 #pragma once
 
-#include "geometry/interaction.h"
 #include "lights/light.h"
 #include "materials/bsdf.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
+#include "transport/mis.h"
+#include "transport/spawn.h"
 
 namespace ml {
-
-inline float power_heuristic(float f_pdf, float g_pdf) {
-    float f = f_pdf * f_pdf, g = g_pdf * g_pdf;
-    if (std::isinf(f)) return 1.f;
-    return f + g > 0 ? f / (f + g) : 0.f;
-}
-
-inline LightSampleContext light_context(const SurfaceInteraction& si) {
-    return LightSampleContext{si.p, si.ng, si.ns};
-}
-
-inline Ray spawn_ray(const SurfaceInteraction& si, const Vec3& wi) {
-    return Ray{si.offset_origin(wi), wi, kInfinity, si.time};
-}
 
 class LightSampler;
 

@@ -1,4 +1,4 @@
-#include "manylight/point_light.h"
+#include "lights/point_lights.h"
 
 #include <algorithm>
 #include <array>

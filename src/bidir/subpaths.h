@@ -2,8 +2,8 @@
 // vertex, the throughput and the forward and reverse area densities MIS needs.
 #pragma once
 
+#include "bidir/path_vertex.h"
 #include "core/scratch.h"
-#include "integrators/bdpt/path_vertex.h"
 #include "sampling/sampler.h"
 
 namespace ml {

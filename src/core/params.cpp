@@ -1,4 +1,4 @@
-#include "scene/params.h"
+#include "core/params.h"
 
 #include <cstring>
 #include <map>

@@ -1,4 +1,4 @@
-#include "integrators/bdpt/path_vertex.h"
+#include "bidir/path_vertex.h"
 
 #include "core/stats.h"
 

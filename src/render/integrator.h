@@ -1,6 +1,8 @@
 // The integrator interface and the per-pixel driver most integrators share.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <map>
 #include <memory>
@@ -46,7 +48,8 @@ struct RenderContext {
 struct RenderResult {
     int spp = 0;                        // samples per pixel actually taken
     size_t point_lights = 0, vpls = 0;  // many-light integrators: the point-light set
-    std::string extra_json;             // more --stats members, e.g. "\"lightcuts\": {...}"
+    // More --stats members, by name: the integrator's figures, e.g. {"lightcuts": {...}}.
+    nlohmann::json stats = nlohmann::json::object();
     std::map<std::string, Image> aovs;  // extra images by name (e.g. "cutsize")
     // Images always written beside the output as OUT.NAME.exr (debugging output an integrator
     // was asked for through its settings, e.g. bdpt.strategy_images).
@@ -67,14 +70,9 @@ public:
 Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
                      float* filter_weight);
 
-// Under a time limit, how many units (samples, passes) the next round of a progressive render
-// may take: what fills the time left at the last round's cost per unit, at most 4x the last
-// round (so the cost estimate stays fresh); 0 when no unit fits any more.
-int next_round_size(int last_units, double last_seconds, double elapsed, double time_limit);
-
-// Integrators that estimate radiance along camera rays, one pixel sample at a time. Pixels are
-// rendered in tiles in parallel; each pixel's samples are taken in index order by one thread,
-// so the image is the same for any thread count and schedule.
+// Integrators that estimate radiance along camera rays, one pixel sample at a time, in the render
+// loop's rounds (render_loop.h: render_pixels): each pixel's samples are taken in index order by
+// one thread, so the image is the same for any thread count and schedule.
 class PixelIntegrator : public Integrator {
 public:
     RenderResult render(const RenderContext& ctx) override;

@@ -1,4 +1,4 @@
-#include "integrators/common.h"
+#include "transport/direct_lighting.h"
 
 #include "lights/light_sampler.h"
 

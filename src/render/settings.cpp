@@ -1,4 +1,4 @@
-#include "integrators/settings.h"
+#include "render/settings.h"
 
 #include <charconv>
 #include <cmath>

@@ -7,18 +7,12 @@
 #pragma once
 
 #include <map>
-#include <stdexcept>
 #include <string>
 
-#include "scene/params.h"
+#include "core/error.h"
+#include "core/params.h"
 
 namespace ml {
-
-// A --set key nobody reads, or a value that does not parse.
-class UsageError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 class Settings {
 public:

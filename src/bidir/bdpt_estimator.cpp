@@ -1,9 +1,9 @@
-#include "integrators/bdpt/bdpt_estimator.h"
+#include "bidir/bdpt_estimator.h"
 
 #include <vector>
 
-#include "integrators/bdpt/connect.h"
-#include "integrators/bdpt/subpaths.h"
+#include "bidir/connect.h"
+#include "bidir/subpaths.h"
 #include "lights/light_sampler.h"
 
 namespace ml {

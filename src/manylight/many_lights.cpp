@@ -1,0 +1,107 @@
+#include "manylight/many_lights.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+namespace ml {
+
+namespace {
+
+// The defaults of the settings `vpl`, `lightcuts` and `mdlightcuts` share: the best measured on
+// the kitchen and the Cornell box (bench/RESULTS.md, "Issue 13: the defaults"). Glossy VPLs
+// through their whole BSDF sent 89% of the kitchen's lightcuts cuts to max_cut, and area lights
+// as points are singular where an emitter nearly touches a surface; clamping takes the rare
+// VPL spikes (a VPL millimetres from the receiver) at a cost of about 0.5% of the kitchen.
+constexpr int kDefaultVplCount = 100000;
+constexpr const char* kDefaultGlossy = "diffuse";
+constexpr const char* kDefaultDirect = "sample";
+constexpr float kDefaultClamp = 0.2f;
+
+}  // namespace
+
+ManyLightSettings ManyLightSettings::read(const Settings& s) {
+    ManyLightSettings m;
+    m.max_depth = s.get_int("maxdepth", 5);
+    m.lights.vpl_count = s.get_int("vpl.count", kDefaultVplCount);
+    // A VPL deposited at a light path's b-th bounce lights paths of b + 1 bounces, so light
+    // paths stop where the path tracer's would (maxdepth bounces) unless told otherwise.
+    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1));
+    std::string glossy = s.get_string("vpl.glossy", kDefaultGlossy);
+    if (glossy == "bsdf")
+        m.lights.vpl_glossy = GlossyVpls::Bsdf;
+    else if (glossy == "diffuse")
+        m.lights.vpl_glossy = GlossyVpls::Diffuse;
+    else if (glossy == "skip")
+        m.lights.vpl_glossy = GlossyVpls::Skip;
+    else
+        throw UsageError("vpl.glossy must be bsdf, diffuse or skip, not " + glossy);
+    m.lights.vpls = m.lights.vpl_count > 0;
+    m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count);
+    m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
+    int seed = s.get_int("vpl.seed", -1);  // -1: follow --seed
+    if (seed < -1) throw UsageError("vpl.seed must be >= 0 (or -1: from --seed)");
+    if (seed >= 0) m.explicit_seed = uint64_t(seed);
+    m.lights.seed = m.explicit_seed.value_or(0);
+    m.clamp = s.get_float("vpl.clamp", kDefaultClamp);
+    std::string direct = s.get_string("lights.direct", kDefaultDirect);
+    if (direct == "sample")
+        m.lights.sampled_direct = true;
+    else if (direct != "points")
+        throw UsageError("lights.direct must be points or sample, not " + direct);
+    // Read only when sampling, so that a count given with `points` is reported as unused.
+    if (m.lights.sampled_direct)
+        m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
+    if (m.direct_samples < 1) throw UsageError("lights.direct_samples must be at least 1");
+    if (m.max_depth < 0 || m.lights.vpl_count < 0 || m.lights.vpl_max_depth < 1 ||
+        m.lights.area_count < 1 || m.lights.env_count < 1 || m.clamp < 0)
+        throw UsageError("vpl settings out of range (counts >= 1, vpl.max_depth >= 1, clamp >= 0)");
+    return m;
+}
+
+void ManyLightSettings::use_render_seed(uint64_t render_seed) {
+    lights.seed = explicit_seed.value_or(render_seed);
+}
+
+void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
+                       SampledDirectLight* direct) {
+    *set = build_point_light_set(scene, settings.lights);
+    *direct = settings.lights.sampled_direct ? SampledDirectLight(scene, settings.direct_samples)
+                                             : SampledDirectLight();
+}
+
+std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
+                               int max_cut, const PointLightSet& set) {
+    if (!(capped > 0.1)) return "";
+    return fmt::format(
+        "{0}: {1:.0f}% of {2} reached {0}.max_cut ({3}), where the error is not bounded by "
+        "{0}.error{4}",
+        integrator, 100 * capped, what, max_cut,
+        set.glossy > 0 ? "; glossy VPLs with sharp lobes do that (vpl.glossy=diffuse keeps their "
+                         "diffuse part only)"
+                       : "");
+}
+
+nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {
+    return {{"point_light_seconds", set.seconds},
+            {"omni", set.omni},
+            {"oriented", set.oriented},
+            {"directional", set.directional},
+            {"glossy", set.glossy},
+            {"light_paths", set.light_paths},
+            {"direct", direct.empty() ? "points" : "sample"},
+            {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+}
+
+LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
+                           const PointLightSet& set, double* seconds) {
+    auto t0 = std::chrono::steady_clock::now();
+    LightTreeOptions opts;
+    opts.seed = settings.lights.seed;
+    opts.scene_diagonal = length(scene.bounds().diagonal());
+    LightTree tree(set.lights, opts);
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return tree;
+}
+
+}  // namespace ml

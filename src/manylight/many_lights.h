@@ -1,0 +1,59 @@
+// What the many-light integrators (vpl, lightcuts, mdlightcuts) shade with, built once per render:
+// the point-light set (the scene's lights turned into point lights, plus VPLs), the sampled direct
+// light, the light tree over the set, and the settings that choose them.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+
+#include "manylight/direct.h"
+#include "manylight/light_tree.h"
+#include "manylight/point_light_set.h"
+#include "render/settings.h"
+
+namespace ml {
+
+// The settings both `vpl` and `lightcuts` read: the point-light set and clamping.
+struct ManyLightSettings {
+    PointLightOptions lights;
+    float clamp = 0;    // > 0: no VPL contributes more than this radiance (per channel)
+    int max_depth = 5;  // delta bounces followed from the camera before gathering
+    // lights.direct=sample: area and infinite lights by next-event estimation
+    // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
+    int direct_samples = 4;
+    // vpl.seed when given; else lights.seed follows the render's seed (use_render_seed).
+    std::optional<uint64_t> explicit_seed;
+    static ManyLightSettings read(const Settings& s);
+    // Sets lights.seed, which every random choice of the point-light set (VPL paths, points on
+    // area lights and environment maps) and of the light tree (representatives) draws from:
+    // vpl.seed if given, else the render's seed (--seed), so that a new --seed gives new VPLs
+    // and representatives. (build_point_light_set hashes it into streams of its own, which never
+    // replay the camera's samples.)
+    void use_render_seed(uint64_t render_seed);
+    // A point light's contribution after clamping (VPLs only; the emitters' lights are exact).
+    RGB clamped(const RGB& c, bool is_vpl) const {
+        if (clamp <= 0 || !is_vpl) return c;
+        return RGB(std::min(c.r, clamp), std::min(c.g, clamp), std::min(c.b, clamp));
+    }
+};
+
+// What `vpl`, `lightcuts` and `mdlightcuts` shade with: the point-light set and, with
+// lights.direct=sample, the sampled direct light.
+void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
+                       SampledDirectLight* direct);
+// For `lightcuts` and `mdlightcuts`: the warning that a fraction `capped` of their cuts (of
+// "gather points" or "pixel passes", `what`) stopped at max_cut, where the error is not bounded;
+// empty below 10%.
+std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
+                               int max_cut, const PointLightSet& set);
+// The --stats figures of the point-light set and the sampled direct light (build time, lights
+// by kind, light paths, direct-light mode), as lightcuts and mdlightcuts report them.
+nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct);
+// The light tree over `set` as `lightcuts` and `mdlightcuts` build it (representatives seeded by
+// lights.seed, the cone weight from the scene's size); *seconds receives the build time.
+LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
+                           const PointLightSet& set, double* seconds);
+
+}  // namespace ml

@@ -1,0 +1,50 @@
+#include "core/parallel.h"
+#include "core/stats.h"
+#include "render/integrator.h"
+#include "render/render_loop.h"
+
+namespace ml {
+
+namespace {
+
+struct ThreadState {
+    std::unique_ptr<Sampler> sampler;
+    ScratchBuffer scratch;
+};
+
+}  // namespace
+
+Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
+                     float* filter_weight) {
+    FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
+    CameraSample cs;
+    cs.p_film = Vec2(float(pixel.x) + 0.5f + fs.p.x, float(pixel.y) + 0.5f + fs.p.y);
+    cs.time = sampler.get_1d();
+    cs.p_lens = sampler.get_2d();
+    stats::count_camera_ray();
+    *filter_weight = fs.weight;
+    return ctx.camera.generate_ray(cs);
+}
+
+RenderResult PixelIntegrator::render(const RenderContext& ctx) {
+    prepare(ctx.scene);
+    ThreadLocal<ThreadState> states([&] {
+        return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
+    });
+    RenderResult result;
+    result.spp = int(render_pixels(ctx, ctx.spp, [&](Point2i pixel, int64_t s0, int64_t s1) {
+        ThreadState& ts = states.local();
+        Sampler& sampler = *ts.sampler;
+        for (int64_t s = s0; s < s1; ++s) {
+            sampler.start_pixel_sample(pixel, int(s));
+            float weight;
+            Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
+            RGB L = li(ray, ctx.scene, sampler, ts.scratch, pixel);
+            ctx.film.add_sample(pixel, L, weight);
+            ts.scratch.reset();
+        }
+    }));
+    return result;
+}
+
+}  // namespace ml

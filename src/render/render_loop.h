@@ -1,0 +1,64 @@
+// The render loop every integrator runs: work in rounds, under a sample budget or a time limit,
+// with progress, and the same image for a seed whatever the thread count or schedule.
+//   - Pixel integrators (path, lightcuts, mdlightcuts...): rounds of samples (or passes) per
+//     pixel; pixels in tiles in parallel, each pixel's units in order by one thread
+//     (render_pixels).
+//   - Splat integrators (lighttracer, bdpt) and Markov chains (mlt, pssmlt): work items (tiles,
+//     chains) in parallel, each writing its splats to its own list; the lists are summed in item
+//     order (splats.h: run_and_merge), never in the order threads finish.
+// Under a time limit, run_rounds sizes each round from the last one's cost so that it ends in
+// time; no round is started that is not expected to.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+
+#include "core/math.h"
+#include "render/integrator.h"
+
+namespace ml {
+
+// Under a time limit a round plans to fill this share of the time left: the rest absorbs the
+// error of the cost estimate, measured on the last round.
+constexpr double kRoundTimeShare = 0.95;
+// A round is at most this many times the last, so that the cost estimate stays fresh.
+constexpr double kMaxRoundGrowth = 4.0;
+// The least cost per unit a round is assumed to have (seconds): a round too fast to measure
+// does not make the next one infinite.
+constexpr double kMinSecondsPerUnit = 1e-9;
+
+// Under a time limit, how many units (samples, passes, mutations) the next round may take: what
+// fills kRoundTimeShare of the time left at the last round's cost per unit, at most
+// kMaxRoundGrowth times the last round and at most `most`; 0 when no unit fits any more.
+int64_t next_round_size(int64_t last_units, double last_seconds, double elapsed, double time_limit,
+                        int64_t most = std::numeric_limits<int64_t>::max());
+
+struct RoundPlan {
+    int64_t total = 0;        // units in all (the sample or mutation budget)
+    int64_t first_timed = 1;  // units of the first round under a time limit: a cheap measure
+    int64_t most = std::numeric_limits<int64_t>::max();  // no round is larger
+};
+
+// Runs rounds until `plan.total` units are done: round(done, units) runs up to `units` more units
+// (the caller clips them to what is left) and returns how many it ran; 0 (nothing left to run,
+// or a round cut short by the time limit, which then does not count) ends the loop. Without a
+// time limit, rounds of plan.most units (the whole budget by default); under one, a first round
+// of plan.first_timed units, then each as next_round_size says, timed from the render's start
+// (RenderContext::elapsed). Reports progress after each round. Returns the units done.
+int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
+                   const std::function<int64_t(int64_t done, int64_t units)>& round);
+
+// The progress bar's fraction: the time spent under a time limit, else the share of the work.
+void report_progress(const RenderContext& ctx, double work_fraction);
+
+// Runs fn(pixel, u0, u1) for every pixel of the film, in rounds of units [u0, u1) planned by
+// run_rounds (without a time limit, one round of all `units`). Pixels run in tiles in parallel;
+// each pixel's units run in order on one thread, so the image does not depend on the schedule.
+// Past the time limit no tile or row of a tile starts, even within a round: the contract is the
+// time; the round then does not count (the film's weights keep the pixels' means right).
+// Returns the units done.
+int64_t render_pixels(const RenderContext& ctx, int64_t units,
+                      const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
+
+}  // namespace ml
