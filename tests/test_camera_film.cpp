@@ -3,8 +3,10 @@
 
 #include "camera/camera.h"
 #include "core/rng.h"
+#include "core/stats.h"
 #include "film/film.h"
 #include "film/filter.h"
+#include "render/splats.h"
 
 using namespace ml;
 
@@ -118,4 +120,15 @@ TEST(Film, ImagingRatioScalesBeforeTheClamp) {
     EXPECT_NEAR(c.r, 4.f / 3, 1e-6f);
     EXPECT_NEAR(c.g, 4.f, 1e-6f);
     EXPECT_NEAR(c.b, 2.f / 3, 1e-6f);
+}
+
+TEST(Film, NonFiniteSplatsAreCounted) {
+    stats::reset();
+    std::vector<Splat> out;
+    SplatList list(out, 4, 4);
+    list.add(Vec2(1.5f, 1.5f), RGB(std::nanf(""), 1, 1));
+    list.add_to_pixel({2, 2}, RGB(0, kInfinity, 0), 0);
+    list.add(Vec2(1.5f, 1.5f), RGB(1, 1, 1));
+    EXPECT_EQ(out.size(), 1u);
+    EXPECT_EQ(stats::total().nonfinite_splats, 2u);
 }

@@ -32,6 +32,7 @@ RayCounts total() {
         sum.camera += c->camera;
         sum.closest += c->closest;
         sum.shadow += c->shadow;
+        sum.nonfinite_splats += c->nonfinite_splats;
     }
     return sum;
 }

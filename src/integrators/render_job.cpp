@@ -143,7 +143,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     stats::RayCounts rays = stats::total();
 
     out.image = film.to_image();
-    fig.nonfinite_samples = film.nonfinite_samples();
+    fig.nonfinite_samples = film.nonfinite_samples() + rays.nonfinite_splats;
     if (fig.nonfinite_samples > 0)
         fig.warnings.push_back(fmt::format(
             "{} samples had a NaN or infinite channel and were dropped (film.nonfinite_samples)",

@@ -14,6 +14,7 @@
 #include "core/color.h"
 #include "core/math.h"
 #include "core/parallel.h"
+#include "core/stats.h"
 #include "film/film.h"
 #include "film/image.h"
 #include "film/splat_filter.h"
@@ -34,15 +35,17 @@ public:
         : m_out(out), m_width(width), m_height(height) {}
     // A contribution at raster position p (pixels); dropped off the film or when not finite.
     void add(const Vec2& p, const RGB& v, int image = -1) {
+        if (!v.is_finite()) return stats::count_nonfinite_splat();  // in film.nonfinite_samples
         if (!(p.x >= 0 && p.y >= 0 && p.x < float(m_width) && p.y < float(m_height)) ||
-            !v.is_finite() || v.is_black())
+            v.is_black())
             return;
         m_out.push_back(Splat{p, image, v});
     }
     // A camera sample's contribution to pixel `pixel` of an extra image (not spread: it was
     // drawn from the filter, as the film's camera samples are).
     void add_to_pixel(Point2i pixel, const RGB& v, int image) {
-        if (!v.is_finite() || v.is_black()) return;
+        if (!v.is_finite()) return stats::count_nonfinite_splat();
+        if (v.is_black()) return;
         m_out.push_back(Splat{Vec2(pixel.x + 0.5f, pixel.y + 0.5f), image, v, false});
     }
 
