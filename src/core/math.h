@@ -131,9 +131,6 @@ struct Frame {
     Vec3 to_world(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
-// A shadow ray towards a point stops this share of the way short of it (tmax = 1 - this, with
-// the direction the whole segment), so that the surface the point lies on does not occlude it.
-constexpr float kShadowEpsilon = 1e-4f;
 
 struct Ray {
     Vec3 o, d;
