@@ -131,7 +131,6 @@ struct Frame {
     Vec3 to_world(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
-
 struct Ray {
     Vec3 o, d;
     float tmax = kInfinity;
