@@ -47,7 +47,16 @@ Image box_downsample(const Image& img, int k) {
 
 std::vector<BlockDiff> worst_blocks(const Image& a, const Image& ref, int block, int count,
                                     float min_mean, bool per_channel) {
-    Image ba = box_downsample(a, block), br = box_downsample(ref, block);
+    if (block <= 0 || a.width != ref.width || a.height != ref.height)
+        throw UsageError("worst_blocks: the images differ in size, or the block is not positive");
+    // The whole blocks only.
+    auto whole = [&](const Image& img) {
+        Image c((img.width / block) * block, (img.height / block) * block);
+        for (int y = 0; y < c.height; ++y)
+            for (int x = 0; x < c.width; ++x) c.at(x, y) = img.at(x, y);
+        return box_downsample(c, block);
+    };
+    Image ba = whole(a), br = whole(ref);
     std::vector<BlockDiff> all;
     for (int y = 0; y < ba.height; ++y)
         for (int x = 0; x < ba.width; ++x) {

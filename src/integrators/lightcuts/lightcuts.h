@@ -82,7 +82,7 @@ private:
     }
     int m_max_cut = 1000;
     // The error floor (manylight/pilot.h): `lightcuts.floor` times the pilot's mean luminance.
-    float m_floor = 0.1f;
+    float m_floor = 1.0f;
     float m_floor_luminance = 0;
     bool m_verify = false;
     int m_reps = kLightTreeReps;  // representatives per node drawn from (1: always the first)

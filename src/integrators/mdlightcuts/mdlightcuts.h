@@ -58,7 +58,7 @@ private:
     int m_max_cut = 1000;
     int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
     // The error floor (manylight/pilot.h): `mdlightcuts.floor` times the pilot's mean luminance.
-    float m_floor = 0.1f;
+    float m_floor = 1.0f;
     float m_floor_luminance = 0;
     CutCriterion m_criterion = CutCriterion::Max;
     PointLightSet m_set;
