@@ -118,7 +118,7 @@ double weight_sum(const BdptScene& ctx, std::vector<PathVertex> cam, int n) {
     light[0].pdf_fwd = light[0].pdf_light_origin(ctx, cam[n - 2]);
     light[0].pdf_rev = e.pdf_fwd;
     light[1].pdf_fwd = light[0].pdf_light(ctx, light[1]);
-    PathVertex lens = PathVertex::camera(cam[0].p(), ctx.camera.forward(), RGB(1.f));
+    PathVertex lens = PathVertex::camera(cam[0].p(), ctx.camera.forward(0.f), RGB(1.f));
     double sum = 0;
     for (int s = 0; s < n; ++s) {
         int t = n - s;

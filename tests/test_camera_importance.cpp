@@ -59,7 +59,7 @@ TEST(CameraImportance, PinholeImportanceIntegratesToOneOverTheFilm) {
     // integrates to 1.
     Estimate we = monte_carlo(400000, 1, [&](Vec2 u) {
         Vec3 w = sample_uniform_sphere(u);
-        float cos = dot(w, cam.forward());
+        float cos = dot(w, cam.forward(0.f));
         return cam.importance(Ray{eye, w}) * std::max(0.f, cos) / pdf_uniform_sphere();
     });
     EXPECT_NEAR(we.mean, 1.0, 5 * we.stderr_of_mean + 1e-3);
@@ -71,7 +71,7 @@ TEST(CameraImportance, PinholeImportanceIntegratesToOneOverTheFilm) {
     });
     EXPECT_NEAR(pdf.mean, 1.0, 5 * pdf.stderr_of_mean + 1e-3);
     // Behind the camera: nothing.
-    EXPECT_EQ(cam.importance(Ray{eye, -cam.forward()}), 0.f);
+    EXPECT_EQ(cam.importance(Ray{eye, -cam.forward(0.f)}), 0.f);
 }
 
 TEST(CameraImportance, GeneratedRaysCarryTheirOwnRasterPositionAndDensity) {
@@ -91,7 +91,7 @@ TEST(CameraImportance, GeneratedRaysCarryTheirOwnRasterPositionAndDensity) {
             cam.pdf_we(r, &pdf_area, &pdf_dir);
             EXPECT_NEAR(pdf_area, 1 / cam.lens_area(), 1e-4f);
             // We = pdf_dir / (lens area cos): the camera samples in proportion to importance.
-            float cos = dot(r.d, cam.forward());
+            float cos = dot(r.d, cam.forward(0.f));
             EXPECT_NEAR(We, pdf_dir / (cam.lens_area() * cos), 1e-3f * We);
         }
     }
@@ -105,7 +105,7 @@ TEST(CameraImportance, SampleWiFindsTheLensPointAndPixelThatSeeAPoint) {
         for (int i = 0; i < 300; ++i) {
             Vec3 p(rng.next_float() * 4 - 2, rng.next_float() * 4 - 2, -rng.next_float() * 4);
             Vec2 u(rng.next_float(), rng.next_float());
-            auto s = cam.sample_wi(p, u);
+            auto s = cam.sample_wi(p, u, 0.f);
             if (!s) continue;
             ++found;
             // The ray the camera makes for that pixel and lens point passes through p.
@@ -131,7 +131,7 @@ TEST(CameraImportance, ThinLensImportanceIntegratesToOneOverFilmAndLens) {
         Vec2 l = sample_uniform_disk_concentric(Vec2(rng.next_float(), rng.next_float())) * 0.25f;
         Vec3 o = camera_pose().point(Vec3(l.x, l.y, 0));
         Vec3 w = sample_uniform_sphere(u);
-        float cos = dot(w, cam.forward());
+        float cos = dot(w, cam.forward(0.f));
         return cam.importance(Ray{o, w}) * std::max(0.f, cos) * cam.lens_area() /
                pdf_uniform_sphere();
     });

@@ -46,7 +46,7 @@ struct BruteForce {
         const int n = int(v.size());
         Vec3 d01 = dir(v[0], v[1]);
         RGB c(float(ctx.camera.importance(Ray{v[0].p(), d01}) *
-                    std::abs(dot(ctx.camera.forward(), d01))));
+                    std::abs(dot(ctx.camera.forward(0.f), d01))));
         for (int k = 0; k + 1 < n; ++k) {
             Vec3 d = v[size_t(k + 1)].p() - v[size_t(k)].p();
             double d2 = length_squared(d);

@@ -51,7 +51,8 @@ BdptPathSample BdptEstimator::sample_depth(
 
     // The light subpath, exactly s vertices.
     stream(BdptStream::Light);
-    if (generate_light_subpath(ctx, sampler, scratch, s, light_vertices.data()) != s) return out;
+    if (generate_light_subpath(ctx, sampler, scratch, s, ray.time, light_vertices.data()) != s)
+        return out;
 
     // The connection.
     stream(BdptStream::Connection);

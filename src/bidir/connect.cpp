@@ -130,13 +130,14 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
         const PathVertex& qs = light_vertices[s - 1];
         if (qs.is_connectible()) {
             Vec2 u = sampler.get_2d();
-            auto cs =
-                qs.kind == VertexKind::Surface ? ctx.camera.sample_wi(qs.p(), u) : std::nullopt;
+            auto cs = qs.kind == VertexKind::Surface ? ctx.camera.sample_wi(qs.p(), u, qs.si.time)
+                                                     : std::nullopt;
             if (cs) {
                 c.splat = true;
                 c.p_raster = cs->p_raster;
                 sampled =
                     PathVertex::camera(cs->p_lens, cs->n_lens, RGB(cs->We / cs->pdf_solid_angle));
+                sampled->si.time = qs.si.time;
                 L = qs.beta * qs.f(*sampled, TransportMode::Importance) * sampled->beta *
                     abs_dot(cs->wi, qs.ns());
                 if (!L.is_black() && !mutually_visible(ctx.scene, qs, *sampled)) L = RGB();
@@ -155,6 +156,7 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                     sampled = PathVertex::light_endpoint(sl->light, ls->p_light, ls->n_light,
                                                          ls->L / (ls->pdf_solid_angle * sl->pmf), 0,
                                                          ls->p_error);
+                    sampled->si.time = pt.si.time;
                     sampled->pdf_fwd = sampled->pdf_light_origin(ctx, pt);
                     L = pt.beta * pt.f(*sampled, TransportMode::Radiance) * sampled->beta *
                         abs_dot(ls->wi, pt.ns());

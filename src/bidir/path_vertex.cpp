@@ -36,7 +36,7 @@ float PathVertex::pdf_area(const BdptScene& ctx, const PathVertex* prev,
     float pdf = 0;
     if (kind == VertexKind::Camera) {
         float pdf_pos;
-        ctx.camera.pdf_we(Ray{p(), wn}, &pdf_pos, &pdf);
+        ctx.camera.pdf_we(Ray{p(), wn, kInfinity, si.time}, &pdf_pos, &pdf);
     } else {
         if (!prev || !bsdf) return 0;
         Vec3 wp = prev->p() - p();

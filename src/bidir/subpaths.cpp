@@ -64,6 +64,7 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
     // A pinhole is a point (no normal); a thin lens is a surface facing forwards, but the
     // camera vertex is never the far end of a density conversion, so the normal is moot.
     path[0] = PathVertex::camera(ray.o, Vec3(), RGB(1.f));
+    path[0].si.time = ray.time;
     float pdf_pos, pdf_dir;
     ctx.camera.pdf_we(ray, &pdf_pos, &pdf_dir);
     return 1 + random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices - 1,
@@ -77,7 +78,7 @@ int continue_subpath(const BdptScene& ctx, const Ray& ray, float pdf_dir, Sample
 }
 
 int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
-                           int max_vertices, PathVertex* path) {
+                           int max_vertices, float time, PathVertex* path) {
     if (max_vertices <= 0) return 0;
     float u_select = sampler.get_1d();
     Vec2 u_pos = sampler.get_2d();
@@ -91,10 +92,12 @@ int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer
     float pdf_origin = sl->pmf * les->pdf_pos;
     path[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, les->L, pdf_origin,
                                          les->p_error);
+    path[0].si.time = time;
     float cos_light = les->n_light == Vec3() ? 1.f : abs_dot(les->n_light, les->ray.d);
     RGB beta = les->L * (cos_light / (pdf_origin * les->pdf_dir));
     // Off the light's surface, to the side the ray leaves by (points stay where they are).
     Ray ray = les->ray;
+    ray.time = time;
     if (path[0].on_surface()) ray.o = path[0].si.offset_origin(ray.d);
     int n = random_walk(ctx, ray, sampler, scratch, beta, les->pdf_dir, max_vertices - 1,
                         TransportMode::Importance, path + 1);

@@ -16,9 +16,10 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
 
 // Up to `max_vertices` vertices starting on a light: get_1d() (which light), get_2d()
 // (position), get_2d() (direction), then per bounce get_1d(), get_2d(). Returns the vertex
-// count (0 when no light could emit).
+// count (0 when no light could emit). `time` is the path's (its camera ray's, or one drawn over
+// the shutter by camera.sample_time): every ray of the subpath is traced at it.
 int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
-                           int max_vertices, PathVertex* path);
+                           int max_vertices, float time, PathVertex* path);
 
 // Continues a subpath whose last vertex is path[-1] along `ray`, which that vertex chose with
 // solid-angle density `pdf_dir` (0 for a delta lobe): up to `max_vertices` vertices, each bounce

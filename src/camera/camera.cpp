@@ -4,9 +4,14 @@
 
 namespace ml {
 
-PerspectiveCamera::PerspectiveCamera(const ParameterList& params, const Transform& camera_to_world,
-                                     int width, int height)
-    : m_camera_to_world(camera_to_world), m_width(width), m_height(height) {
+PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
+                                     const AnimatedTransform& camera_to_world, int width,
+                                     int height)
+    : m_motion(camera_to_world),
+      m_moves(camera_to_world.is_animated()),
+      m_camera_to_world(camera_to_world.start()),
+      m_width(width),
+      m_height(height) {
     float fov = params.get_float("fov", 90.f);
     if (!(fov > 0.f && fov < 180.f))
         throw_input_error(params.find("fov")->loc, "\"fov\" must lie in (0, 180) degrees");
@@ -30,8 +35,13 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params, const Transfor
     }
     m_shutter_open = params.get_float("shutteropen", 0.f);
     m_shutter_close = params.get_float("shutterclose", 1.f);
-    m_world_to_camera = camera_to_world.inverse();
-    m_forward = normalize(camera_to_world.vector(Vec3(0, 0, 1)));
+    if (!(m_shutter_close >= m_shutter_open))
+        throw_input_error(params.loc(),
+                          "\"shutterclose\" ({}) must not be less than "
+                          "\"shutteropen\" ({})",
+                          m_shutter_close, m_shutter_open);
+    m_world_to_camera = m_camera_to_world.inverse();
+    m_forward = normalize(m_camera_to_world.vector(Vec3(0, 0, 1)));
     m_image_area = (m_screen[1] - m_screen[0]) * (m_screen[3] - m_screen[2]) * sqr(m_tan_half_fov);
 }
 
@@ -43,14 +53,15 @@ Vec2 PerspectiveCamera::raster_of(const Vec3& p) const {
 
 float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
     // In camera space: the ray must leave the lens forwards.
-    Vec3 d = normalize(m_world_to_camera.vector(ray.d));
+    const Transform w2c = world_to_camera(ray.time);
+    Vec3 d = normalize(w2c.vector(ray.d));
     float cos_theta = d.z;
     if (cos_theta <= 0) return 0;
     // The point the ray focuses on, brought back to the plane z = 1 (a pinhole's ray through
     // it leaves the same raster position).
     Vec3 p_plane = d / cos_theta;
     if (m_lens_radius > 0) {
-        Vec3 o = m_world_to_camera.point(ray.o);
+        Vec3 o = w2c.point(ray.o);
         Vec3 p_focus = o + d * ((m_focal_distance - o.z) / cos_theta);
         p_plane = p_focus / m_focal_distance;
     }
@@ -64,24 +75,25 @@ float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
 void PerspectiveCamera::pdf_we(const Ray& ray, float* pdf_area, float* pdf_solid_angle) const {
     *pdf_area = *pdf_solid_angle = 0;
     if (importance(ray) == 0) return;
-    float cos_theta = normalize(m_world_to_camera.vector(ray.d)).z;
+    float cos_theta = normalize(world_to_camera(ray.time).vector(ray.d)).z;
     *pdf_area = 1 / lens_area();
     *pdf_solid_angle = 1 / (m_image_area * cos_theta * cos_theta * cos_theta);
 }
 
-std::optional<CameraWiSample> PerspectiveCamera::sample_wi(const Vec3& p_ref, const Vec2& u) const {
+std::optional<CameraWiSample> PerspectiveCamera::sample_wi(const Vec3& p_ref, const Vec2& u,
+                                                           float time) const {
     // A uniform point on the lens (the pinhole itself when there is no lens).
     Vec2 lens = sample_uniform_disk_concentric(u) * m_lens_radius;
     CameraWiSample s;
-    s.p_lens = m_camera_to_world.point(Vec3(lens.x, lens.y, 0));
-    s.n_lens = m_forward;
+    s.p_lens = camera_to_world(time).point(Vec3(lens.x, lens.y, 0));
+    s.n_lens = forward(time);
     Vec3 wi = s.p_lens - p_ref;
     float d2 = length_squared(wi);
     if (!(d2 > 0)) return std::nullopt;
     s.wi = wi / std::sqrt(d2);
     float cos_lens = abs_dot(s.n_lens, s.wi);
     if (cos_lens == 0) return std::nullopt;
-    s.We = importance(Ray{s.p_lens, -s.wi}, &s.p_raster);
+    s.We = importance(Ray{s.p_lens, -s.wi, kInfinity, time}, &s.p_raster);
     if (s.We == 0) return std::nullopt;
     // Area density 1 / lens_area on the lens, to solid angle at p_ref.
     s.pdf_solid_angle = d2 / (cos_lens * lens_area());
@@ -102,9 +114,10 @@ Ray PerspectiveCamera::generate_ray(const CameraSample& s) const {
         ray.o = Vec3(lens.x, lens.y, 0);
         ray.d = normalize(focus - ray.o);
     }
-    ray.time = lerp(s.time, m_shutter_open, m_shutter_close);
-    ray.o = m_camera_to_world.point(ray.o);
-    ray.d = normalize(m_camera_to_world.vector(ray.d));
+    ray.time = sample_time(s.time);
+    const Transform c2w = camera_to_world(ray.time);
+    ray.o = c2w.point(ray.o);
+    ray.d = normalize(c2w.vector(ray.d));
     return ray;
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/animated_transform.h"
 #include "core/math.h"
 #include "core/params.h"
 
@@ -13,7 +14,7 @@ namespace ml {
 struct CameraSample {
     Vec2 p_film;     // raster position, pixels, (0,0) at the top-left corner
     Vec2 p_lens;     // [0,1)^2
-    float time = 0;  // [0,1)
+    float time = 0;  // [0,1): the fraction of the shutter
 };
 
 // A point on the lens that sees a given scene point (PerspectiveCamera::sample_wi).
@@ -28,36 +29,54 @@ struct CameraWiSample {
 class PerspectiveCamera {
 public:
     // Reads "fov", "lensradius", "focaldistance", "frameaspectratio", "screenwindow",
-    // "shutteropen", "shutterclose" from `params`.
-    PerspectiveCamera(const ParameterList& params, const Transform& camera_to_world, int width,
-                      int height);
+    // "shutteropen", "shutterclose" from `params`. The camera may move (an animated
+    // camera-to-world transform, as pbrt-v4's CameraTransform): every query then takes the
+    // time, from the ray's time or as an argument.
+    PerspectiveCamera(const ParameterList& params, const AnimatedTransform& camera_to_world,
+                      int width, int height);
+    // The ray's time is the shutter's at the fraction s.time.
     Ray generate_ray(const CameraSample& s) const;
+    // The time at the fraction u of the shutter: how paths without a camera ray (light tracer
+    // paths, VPL paths) draw theirs, with the same distribution as generate_ray.
+    float sample_time(float u) const { return lerp(u, m_shutter_open, m_shutter_close); }
+    float shutter_open() const { return m_shutter_open; }
+    float shutter_close() const { return m_shutter_close; }
 
-    // Importance (pbrt-v4's We) of `ray`, leaving a point on the lens: 1 / (A lens_area cos^4),
-    // where A is the area of the image on the plane at unit distance, so that its integral
-    // over the film (cos-weighted, over solid angle) and the lens is one. Zero for rays that
-    // leave the film; the raster position the ray reaches goes to `p_raster` when not null.
+    // Importance (pbrt-v4's We) of `ray`, leaving a point on the lens (at the ray's time): 1 / (A
+    // lens_area cos^4), where A is the area of the image on the plane at unit distance, so that its
+    // integral over the film (cos-weighted, over solid angle) and the lens is one. Zero for rays
+    // that leave the film; the raster position the ray reaches goes to `p_raster` when not null.
     float importance(const Ray& ray, Vec2* p_raster = nullptr) const;
     // Densities of generate_ray() producing `ray` (raster position uniform over the film):
     // over the lens area, and over solid angle.
     void pdf_we(const Ray& ray, float* pdf_area, float* pdf_solid_angle) const;
     // A lens point towards which `p_ref` sends light (pbrt-v4's SampleWi); nullopt when the
     // point lands off the film or on the lens itself.
-    std::optional<CameraWiSample> sample_wi(const Vec3& p_ref, const Vec2& u) const;
-    // The viewing direction (the lens normal), world space.
-    Vec3 forward() const { return m_forward; }
+    std::optional<CameraWiSample> sample_wi(const Vec3& p_ref, const Vec2& u, float time) const;
+    // The viewing direction (the lens normal), world space, at `time`.
+    Vec3 forward(float time) const {
+        return m_moves ? normalize(m_motion.at(time).vector(Vec3(0, 0, 1))) : m_forward;
+    }
     // Area of the lens (1 for a pinhole, whose position is a delta).
     float lens_area() const { return m_lens_radius > 0 ? kPi * sqr(m_lens_radius) : 1.f; }
     int width() const { return m_width; }
     int height() const { return m_height; }
-    const Transform& camera_to_world() const { return m_camera_to_world; }
+    Transform camera_to_world(float time) const {
+        return m_moves ? m_motion.at(time) : m_camera_to_world;
+    }
+    bool moves() const { return m_moves; }
     float lens_radius() const { return m_lens_radius; }
     float focal_distance() const { return m_focal_distance; }
 
 private:
     // Raster position of a camera-space point on the plane z = 1.
     Vec2 raster_of(const Vec3& p_plane) const;
-    Transform m_camera_to_world, m_world_to_camera;
+    Transform world_to_camera(float time) const {
+        return m_moves ? m_motion.at(time).inverse() : m_world_to_camera;
+    }
+    AnimatedTransform m_motion;
+    bool m_moves;
+    Transform m_camera_to_world, m_world_to_camera;  // at the start
     Vec3 m_forward;
     float m_image_area;  // A: the film's area on the plane z = 1 of camera space
     int m_width, m_height;

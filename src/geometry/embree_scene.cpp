@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <limits>
 #include <mutex>
 #include <source_location>
@@ -64,8 +65,12 @@ struct EmbreeScene::Impl {
     }
 };
 
-EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
-    : m_impl(std::make_unique<Impl>()), m_meshes(meshes) {
+EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes, float time_start,
+                         float time_end)
+    : m_impl(std::make_unique<Impl>()),
+      m_meshes(meshes),
+      m_time_start(time_start),
+      m_time_end(time_end) {
     m_impl->device = rtcNewDevice("verbose=0");
     if (!m_impl->device)
         throw InternalError(std::string("Embree: cannot create a device: ") +
@@ -79,14 +84,22 @@ EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes)
         RTCGeometry g = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
         // Shared buffers: Embree reads our arrays in place (it needs 16 bytes of padding after
         // the last vertex, which std::vector's growth gives no promise of, so copy positions).
-        float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.p.size()));
-        m_impl->check();  // vb is null when Embree could not allocate it
-        for (size_t k = 0; k < m.p.size(); ++k) {
-            vb[3 * k] = m.p[k].x;
-            vb[3 * k + 1] = m.p[k].y;
-            vb[3 * k + 2] = m.p[k].z;
-            m_bounds.expand(m.p[k]);
+        // A moving mesh: one vertex buffer per time step, which Embree interpolates linearly.
+        const size_t nv = m.p.size();
+        const int steps = m.moves() ? m.motion_steps : 1;
+        if (m.moves()) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+        for (int step = 0; step < steps; ++step) {
+            float* vb = static_cast<float*>(
+                rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, unsigned(step),
+                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+            m_impl->check();  // vb is null when Embree could not allocate it
+            const Vec3* src = m.moves() ? &m.motion_p[size_t(step) * nv] : m.p.data();
+            for (size_t k = 0; k < nv; ++k) {
+                vb[3 * k] = src[k].x;
+                vb[3 * k + 1] = src[k].y;
+                vb[3 * k + 2] = src[k].z;
+                m_bounds.expand(src[k]);
+            }
         }
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(),
                                    0, 3 * sizeof(uint32_t), m.triangle_count());
@@ -116,7 +129,7 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
     rh.ray.dir_z = ray.d.z;
     rh.ray.tnear = kTNear;
     rh.ray.tfar = ray.tmax;
-    rh.ray.time = ray.time;
+    rh.ray.time = motion_time(ray.time);
     rh.ray.mask = 0xffffffffu;
     rh.ray.id = 0;
     rh.ray.flags = 0;
@@ -134,7 +147,7 @@ namespace {
 
 // Lane i of an Embree ray packet (RTCRay4/8 or the ray of an RTCRayHit4/8) set from `r`.
 template <typename RayN>
-void set_lane(RayN& p, int i, const Ray& r) {
+void set_lane(RayN& p, int i, const Ray& r, float motion_time) {
     p.org_x[i] = r.o.x;
     p.org_y[i] = r.o.y;
     p.org_z[i] = r.o.z;
@@ -143,7 +156,7 @@ void set_lane(RayN& p, int i, const Ray& r) {
     p.dir_z[i] = r.d.z;
     p.tnear[i] = kTNear;
     p.tfar[i] = r.tmax;
-    p.time[i] = r.time;
+    p.time[i] = motion_time;
     p.mask[i] = 0xffffffffu;
     p.id[i] = unsigned(i);
     p.flags[i] = 0;
@@ -175,7 +188,8 @@ void EmbreeScene::intersect_n(const Ray* rays, const bool* active, SurfaceIntera
     for (int i = 0; i < N; ++i) {
         valid[i] = active[i] ? -1 : 0;
         // Inactive lanes still hold finite values: Embree reads every lane.
-        set_lane(rh.ray, i, active[i] ? rays[i] : Ray{Vec3(), Vec3(0, 0, 1), 0.f});
+        set_lane(rh.ray, i, active[i] ? rays[i] : Ray{Vec3(), Vec3(0, 0, 1), 0.f},
+                 active[i] ? motion_time(rays[i].time) : 0.f);
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
@@ -200,7 +214,8 @@ void EmbreeScene::occluded_n(const Ray* rays, const bool* active, bool* occluded
     alignas(32) RayN r;
     for (int i = 0; i < N; ++i) {
         valid[i] = active[i] ? -1 : 0;
-        set_lane(r, i, active[i] ? rays[i] : Ray{Vec3(), Vec3(0, 0, 1), 0.f});
+        set_lane(r, i, active[i] ? rays[i] : Ray{Vec3(), Vec3(0, 0, 1), 0.f},
+                 active[i] ? motion_time(rays[i].time) : 0.f);
     }
     trace(valid, m_impl->scene, &ctx, &r);
     for (int i = 0; i < N; ++i) {
@@ -240,13 +255,18 @@ bool EmbreeScene::occluded(const Ray& ray) const {
     r.dir_z = ray.d.z;
     r.tnear = kTNear;
     r.tfar = ray.tmax;
-    r.time = ray.time;
+    r.time = motion_time(ray.time);
     r.mask = 0xffffffffu;
     r.id = 0;
     r.flags = 0;
     rtcOccluded1(m_impl->scene, &ctx, &r);
     stats::count_shadow_ray();
     return r.tfar < 0.f;
+}
+
+float EmbreeScene::motion_time(float time) const {
+    if (!(m_time_end > m_time_start)) return 0.f;
+    return std::clamp((time - m_time_start) / (m_time_end - m_time_start), 0.f, 1.f);
 }
 
 void EmbreeScene::fill_interaction(const Ray& ray, unsigned geom_id, unsigned prim_id, float u,
@@ -256,12 +276,30 @@ void EmbreeScene::fill_interaction(const Ray& ray, unsigned geom_id, unsigned pr
     uint32_t i0 = m.indices[3 * prim_id], i1 = m.indices[3 * prim_id + 1],
              i2 = m.indices[3 * prim_id + 2];
     float w = 1.f - u - v;
-    const Vec3 &p0 = m.p[i0], &p1 = m.p[i1], &p2 = m.p[i2];
+    // A moving mesh: the vertices (and normals) where Embree found them, interpolated linearly
+    // between the two time steps around the ray's time as Embree does.
+    Vec3 p0, p1, p2, n0, n1, n2;
+    if (m.moves()) {
+        const size_t nv = m.p.size();
+        float s = motion_time(ray.time) * float(m.motion_steps - 1);
+        int k = std::min(int(s), m.motion_steps - 2);
+        float f = s - float(k);
+        auto at = [&](const std::vector<Vec3>& x, uint32_t i) {
+            size_t a = size_t(k) * nv + i;
+            return x[a] * (1 - f) + x[a + nv] * f;
+        };
+        p0 = at(m.motion_p, i0), p1 = at(m.motion_p, i1), p2 = at(m.motion_p, i2);
+        if (!m.n.empty()) n0 = at(m.motion_n, i0), n1 = at(m.motion_n, i1), n2 = at(m.motion_n, i2);
+    } else {
+        p0 = m.p[i0], p1 = m.p[i1], p2 = m.p[i2];
+        if (!m.n.empty()) n0 = m.n[i0], n1 = m.n[i1], n2 = m.n[i2];
+    }
     // Interpolate the position from the vertices rather than o + t d: more accurate.
     si->p = p0 * w + p1 * u + p2 * v;
     // Whatever the barycentrics' own errors (they move p within the plane), the interpolation
     // leaves p within this of the triangle's plane (pbrt-v4's bound for its triangles).
-    si->p_error = (vabs(p0 * w) + vabs(p1 * u) + vabs(p2 * v)) * gamma_bound(7);
+    // (A moving mesh's vertices carry the rounding of their interpolation as well.)
+    si->p_error = (vabs(p0 * w) + vabs(p1 * u) + vabs(p2 * v)) * gamma_bound(m.moves() ? 10 : 7);
     si->t = t;
     si->time = ray.time;
     si->wo = -ray.d;
@@ -287,7 +325,7 @@ void EmbreeScene::fill_interaction(const Ray& ray, unsigned geom_id, unsigned pr
     }
     if (degenerate) coordinate_system(ng, &si->dpdu, &si->dpdv);
     if (!m.n.empty()) {
-        Vec3 ns = m.n[i0] * w + m.n[i1] * u + m.n[i2] * v;
+        Vec3 ns = n0 * w + n1 * u + n2 * v;
         float ls = length_squared(ns);
         ns = ls > 0 ? ns / std::sqrt(ls) : ng;
         // As in pbrt-v4, the shading normals are authoritative for orientation.

@@ -11,8 +11,12 @@ namespace ml {
 
 class EmbreeScene {
 public:
-    // Builds the acceleration structure over the meshes (which must outlive the scene).
-    explicit EmbreeScene(const std::vector<const TriangleMesh*>& meshes);
+    // Builds the acceleration structure over the meshes (which must outlive the scene). Moving
+    // meshes (TriangleMesh::moves) get Embree's motion blur: their steps span the transform
+    // times [time_start, time_end]; a ray at time t sees them at the fraction
+    // clamp((t - time_start) / (time_end - time_start), 0, 1) of their motion.
+    explicit EmbreeScene(const std::vector<const TriangleMesh*>& meshes, float time_start = 0,
+                         float time_end = 1);
     ~EmbreeScene();
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -31,7 +35,10 @@ public:
                     bool hit[8]) const;
     void occluded4(const Ray rays[4], const bool active[4], bool occluded[4]) const;
     void occluded8(const Ray rays[8], const bool active[8], bool occluded[8]) const;
+    // Over the whole motion.
     Bounds3 bounds() const { return m_bounds; }
+    // The fraction of the motion (Embree's time in [0, 1]) at a ray's time.
+    float motion_time(float time) const;
 
 private:
     template <int N, typename RayHitN>
@@ -44,6 +51,7 @@ private:
     std::unique_ptr<Impl> m_impl;
     std::vector<const TriangleMesh*> m_meshes;
     Bounds3 m_bounds;
+    float m_time_start, m_time_end;
 };
 
 }  // namespace ml

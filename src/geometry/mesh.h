@@ -21,6 +21,13 @@ struct TriangleMesh {
     bool flip_normals = false;
     const Material* material = nullptr;
     const Light* area_light = nullptr;  // set when the mesh emits
+    // Motion (a shape under an animated transform): the positions and normals at
+    // motion_steps >= 2 times spread evenly over the transform times, step after step
+    // (motion_p[k * p.size() + v]); between two steps each vertex moves linearly (Embree's
+    // motion blur). Empty for a mesh that does not move. p and n hold step 0.
+    int motion_steps = 0;
+    std::vector<Vec3> motion_p, motion_n;
+    bool moves() const { return motion_steps >= 2; }
 
     size_t triangle_count() const { return indices.size() / 3; }
     float triangle_area(size_t tri) const {
@@ -38,9 +45,11 @@ struct TriangleMesh {
         if (!n.empty()) return face_forward(ng, n[i0] + n[i1] + n[i2]);
         return flip_normals ? -ng : ng;
     }
+    // Over the whole motion.
     Bounds3 bounds() const {
         Bounds3 b;
         for (const Vec3& q : p) b.expand(q);
+        for (const Vec3& q : motion_p) b.expand(q);
         return b;
     }
 };

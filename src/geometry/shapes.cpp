@@ -1,7 +1,9 @@
 #include "geometry/shapes.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "core/assert.h"
 #include "core/parallel.h"
 
 namespace ml {
@@ -215,6 +217,34 @@ void transform_mesh(TriangleMesh& mesh, const Transform& to_world, bool reverse_
             if (dot(ng, ns) < 0.f) std::swap(v[1], v[2]);
         }
     });
+}
+
+void transform_mesh_motion(TriangleMesh& mesh, const std::vector<Transform>& steps,
+                           bool reverse_orientation) {
+    ML_ASSERT(steps.size() >= 2, "a moving mesh needs two steps or more");
+    const size_t nv = mesh.p.size();
+    const std::vector<Vec3> p_object = mesh.p, n_object = mesh.n;
+    mesh.motion_steps = int(steps.size());
+    mesh.motion_p.resize(steps.size() * nv);
+    mesh.motion_n.resize(n_object.empty() ? 0 : steps.size() * nv);
+    for (size_t k = 0; k < steps.size(); ++k) {
+        const Transform& t = steps[k];
+        for (size_t i = 0; i < nv; ++i) {
+            mesh.motion_p[k * nv + i] = t.point(p_object[i]);
+            if (n_object.empty()) continue;
+            Vec3 n = t.normal(n_object[i]);
+            float l = length(n);
+            n = l > 0.f ? n / l : n;
+            mesh.motion_n[k * nv + i] = reverse_orientation ? -n : n;
+        }
+    }
+    // Step 0 as a static mesh: p, n, flip_normals and the triangles' vertex order (a motion that
+    // changes handedness part way is not supported: the order of the start holds throughout).
+    transform_mesh(mesh, steps[0], reverse_orientation);
+}
+
+int motion_segments(float radians) {
+    return std::clamp(int(std::ceil(radians / (2 * kPi / 180))), 1, 64);
 }
 
 }  // namespace ml

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "core/math.h"
 #include "core/params.h"
@@ -25,5 +26,14 @@ std::unique_ptr<TriangleMesh> make_disk(const ParameterList& params, const FileL
 // geometric normal to their side (and ReverseOrientation negates them); we reorder each
 // triangle's vertices so that triangle_normal() agrees with that.
 void transform_mesh(TriangleMesh& mesh, const Transform& to_world, bool reverse_orientation);
+
+// A moving mesh: `steps` (at least two) are its world transforms at times spread evenly over the
+// motion; fills motion_p and motion_n (and p, n from the first step, as transform_mesh).
+void transform_mesh_motion(TriangleMesh& mesh, const std::vector<Transform>& steps,
+                           bool reverse_orientation);
+// How many linear segments follow a motion that turns through `radians` closely enough: one per
+// 2 degrees (a vertex at distance r strays at most r (1 - cos 1deg) = 1.5e-4 r from the arc),
+// between 1 and 64.
+int motion_segments(float radians);
 
 }  // namespace ml

@@ -100,7 +100,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     if (!desc.camera.name.empty() && desc.camera.name != "perspective")
         throw_input_error(desc.camera.loc, "unsupported camera \"{}\" (perspective is)",
                           desc.camera.name);
-    PerspectiveCamera camera(desc.camera.params, desc.world_to_camera.inverse(), width, height);
+    PerspectiveCamera camera(desc.camera.params, desc.camera_to_world(), width, height);
     desc.camera.params.check_unused();
 
     // Integrator: the command line's, else the scene's where we have it, else path.
@@ -138,6 +138,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     ThreadLimit limit(threads);
     auto t_build = std::chrono::steady_clock::now();
     Scene scene(std::move(desc));
+    scene.set_shutter(camera.shutter_open(), camera.shutter_close());
     fig.seconds_build = seconds_since(t_build);
 
     Film film(width, height, max_component, imaging_ratio);

@@ -52,6 +52,9 @@ public:
 
 private:
     void trace_path(Sampler& sampler, ScratchBuffer& scratch, Chunk& chunk) const {
+        // Step 0: in a scene that moves, the path's time, uniform over the shutter (drawn only
+        // there, so that static scenes keep their VPLs). Every ray of the path is traced at it.
+        float time = m_scene.moves() ? m_scene.time_at(sampler.get_1d()) : 0.f;
         // Step 1: a light by power, a ray leaving it; beta is the flux the path carries.
         float u_light = sampler.get_1d();
         Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
@@ -69,6 +72,7 @@ private:
         // skipping glossy surfaces, glossy), and carrying on by importance-mode BSDF sampling.
         // Off the emitter's surface (sample_le leaves the origin on it), as spawn_ray does.
         Ray ray = le->ray;
+        ray.time = time;
         ray.o = offset_ray_origin(ray.o, surface_offset(le->n_light, le->p_error), ray.d);
         SurfaceInteraction si;
         int deposited = 0;

@@ -21,8 +21,15 @@ struct AreaLightSpec {
     FileLoc loc;
 };
 
+// Which of the two CTMs (start and end of the motion) the transform directives change
+// (pbrt-v4's ActiveTransform StartTime|EndTime|All).
+enum ActiveTransformBits { kStartTransform = 1, kEndTransform = 2, kAllTransforms = 3 };
+
 struct GraphicsState {
-    Transform ctm;  // object to world at the next directive
+    // Object to world at the next directive, at the start and at the end of the motion
+    // (TransformTimes); equal when nothing moves.
+    Transform ctm[2];
+    int active_transforms = kAllTransforms;
     bool reverse_orientation = false;
     const Material* material = nullptr;  // null: the default material
     std::shared_ptr<const AreaLightSpec> area_light;
@@ -51,12 +58,16 @@ struct MeshSource {
 };
 
 // One world-space mesh to produce from a source.
+// World at time t is instance.at(t) * object.at(t) (each an AnimatedTransform between the
+// transform times): pbrt-v4 interpolates an instance's and its shapes' motions separately.
 struct ShapeRecord {
     size_t source;
-    Transform to_world;
+    Transform to_world[2];  // the shape's CTM at the start and end times
+    Transform instance[2];  // the ObjectInstance's CTM (identity outside instances)
     bool reverse_orientation;
     const Material* material;
     std::shared_ptr<const AreaLightSpec> area_light;  // null: does not emit
+    FileLoc loc;                                      // the Shape or ObjectInstance directive
 };
 
 // ObjectBegin ... ObjectEnd: shapes relative to the CTM at each ObjectInstance.

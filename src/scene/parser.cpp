@@ -363,8 +363,18 @@ void Parser::directive(const Token& t) {
         world();
         std::string target = expect_string(t, "target (shape, light, material, texture)");
         b.attribute(target, parse_params(loc), loc);
-    } else if (d == "Option" || d == "MakeNamedMedium" || d == "MediumInterface" ||
-               d == "ActiveTransform" || d == "TransformTimes") {
+    } else if (d == "ActiveTransform") {
+        // pbrt-v4 writes the name unquoted: ActiveTransform StartTime.
+        Token n = next();
+        if (n.kind != TokenKind::Word)
+            syntax_error(n, "ActiveTransform expects StartTime, EndTime or All");
+        b.active_transform(std::string(n.raw), Tokenizer::loc(n));
+    } else if (d == "TransformTimes") {
+        options();
+        double start = expect_number(t);
+        double end = expect_number(t);
+        b.transform_times(start, end, loc);
+    } else if (d == "Option" || d == "MakeNamedMedium" || d == "MediumInterface") {
         throw_input_error(loc, "the pbrt-v4 directive \"{}\" is not supported by manylight", name);
     } else {
         double v;

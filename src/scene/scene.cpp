@@ -5,8 +5,12 @@ namespace ml {
 Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
     std::vector<const TriangleMesh*> meshes;
     meshes.reserve(m_desc.meshes.size());
-    for (const auto& m : m_desc.meshes) meshes.push_back(m.get());
-    m_embree = std::make_unique<EmbreeScene>(meshes);
+    for (const auto& m : m_desc.meshes) {
+        meshes.push_back(m.get());
+        m_moves = m_moves || m->moves();
+    }
+    m_embree = std::make_unique<EmbreeScene>(meshes, m_desc.transform_start_time,
+                                             m_desc.transform_end_time);
     m_bounds = m_embree->bounds();
     if (m_bounds.empty()) m_bounds.expand(Vec3(0, 0, 0));
     for (size_t i = 0; i < m_desc.lights.size(); ++i) {

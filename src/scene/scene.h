@@ -45,12 +45,21 @@ public:
     const SceneDesc& desc() const { return m_desc; }
     SceneDesc& desc() { return m_desc; }
     size_t triangle_count() const;
+    // Whether any mesh moves while the shutter is open (shapes under ActiveTransform).
+    bool moves() const { return m_moves; }
+    // The camera's shutter (render_scene sets it from the camera; pbrt's default [0, 1]): paths
+    // that start without a camera ray (VPL paths) draw their time over it, with
+    // time_at(u) = lerp(u, open, close), as the camera's rays do.
+    void set_shutter(float open, float close) { m_shutter_open = open, m_shutter_close = close; }
+    float time_at(float u) const { return lerp(u, m_shutter_open, m_shutter_close); }
 
 private:
     SceneDesc m_desc;
     std::unique_ptr<EmbreeScene> m_embree;
     std::vector<const Light*> m_infinite;
     Bounds3 m_bounds;
+    bool m_moves = false;
+    float m_shutter_open = 0, m_shutter_close = 1;
 };
 
 }  // namespace ml

@@ -1,5 +1,6 @@
 #include "scene/scene_builder.h"
 
+#include <cmath>
 #include <exception>
 #include <filesystem>
 
@@ -29,7 +30,7 @@ void SceneBuilder::require_world(const std::string& directive, const FileLoc& lo
 
 void SceneBuilder::rotate(float degrees, const Vec3& axis, const FileLoc& loc) {
     if (length_squared(axis) == 0.f) throw_input_error(loc, "Rotate: the axis is zero");
-    m_state.ctm = m_state.ctm * Transform::rotate(degrees, axis);
+    concat(Transform::rotate(degrees, axis));
 }
 
 void SceneBuilder::look_at(const Vec3& eye, const Vec3& look, const Vec3& up, const FileLoc& loc) {
@@ -39,7 +40,44 @@ void SceneBuilder::look_at(const Vec3& eye, const Vec3& look, const Vec3& up, co
         throw_input_error(loc,
                           "LookAt: the eye equals the target or the up vector is parallel "
                           "to the view direction");
-    m_state.ctm = m_state.ctm * t;
+    concat(t);
+}
+
+void SceneBuilder::set_ctm(const Transform& t) {
+    for (int i = 0; i < 2; ++i)
+        if (m_state.active_transforms & (1 << i)) m_state.ctm[i] = t;
+}
+
+void SceneBuilder::concat(const Transform& t) {
+    for (int i = 0; i < 2; ++i)
+        if (m_state.active_transforms & (1 << i)) m_state.ctm[i] = m_state.ctm[i] * t;
+}
+
+bool SceneBuilder::ctm_animated() const {
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c)
+            if (m_state.ctm[0].m(r, c) != m_state.ctm[1].m(r, c)) return true;
+    return false;
+}
+
+void SceneBuilder::active_transform(const std::string& which, const FileLoc& loc) {
+    if (which == "StartTime")
+        m_state.active_transforms = kStartTransform;
+    else if (which == "EndTime")
+        m_state.active_transforms = kEndTransform;
+    else if (which == "All")
+        m_state.active_transforms = kAllTransforms;
+    else
+        throw_input_error(loc, "ActiveTransform \"{}\": expected StartTime, EndTime or All", which);
+}
+
+void SceneBuilder::transform_times(double start, double end, const FileLoc& loc) {
+    if (!std::isfinite(start) || !std::isfinite(end) || !(end > start))
+        throw_input_error(loc,
+                          "TransformTimes {} {}: the end time must be greater than the start time",
+                          start, end);
+    m_desc.transform_start_time = float(start);
+    m_desc.transform_end_time = float(end);
 }
 
 namespace {
@@ -57,18 +95,19 @@ Transform transposed(const double m[16], const FileLoc& loc) {
 }  // namespace
 
 void SceneBuilder::transform(const double m[16], const FileLoc& loc) {
-    m_state.ctm = transposed(m, loc);
+    set_ctm(transposed(m, loc));
 }
 
 void SceneBuilder::concat_transform(const double m[16], const FileLoc& loc) {
-    m_state.ctm = m_state.ctm * transposed(m, loc);
+    concat(transposed(m, loc));
 }
 
 void SceneBuilder::coord_sys_transform(const std::string& name, const FileLoc& loc) {
     auto it = m_named_frames.find(name);
     if (it == m_named_frames.end())
         throw_input_error(loc, "unknown coordinate system \"{}\"", name);
-    m_state.ctm = it->second;
+    m_state.ctm[0] = it->second[0];
+    m_state.ctm[1] = it->second[1];
 }
 
 void SceneBuilder::begin_scope(ScopeKind kind, const FileLoc& loc) {
@@ -110,10 +149,13 @@ void SceneBuilder::end_scope(ScopeKind kind, const FileLoc& loc) {
     if (top.kind != kind)
         throw_input_error(loc, "{} closes the {} opened at {}", scope_end_name(kind),
                           scope_name(top.kind), top.loc.to_string());
-    if (kind == ScopeKind::Transform)
-        m_state.ctm = top.saved.ctm;
-    else
+    if (kind == ScopeKind::Transform) {
+        m_state.ctm[0] = top.saved.ctm[0];
+        m_state.ctm[1] = top.saved.ctm[1];
+        m_state.active_transforms = top.saved.active_transforms;
+    } else {
         m_state = top.saved;
+    }
     m_scopes.pop_back();
 }
 
@@ -143,7 +185,9 @@ void SceneBuilder::object_instance(const std::string& name, const FileLoc& loc) 
     // Instances are flattened: each becomes copies of the object's meshes.
     for (const ShapeRecord& s : it->second.shapes) {
         ShapeRecord r = s;
-        r.to_world = m_state.ctm * s.to_world;
+        r.instance[0] = m_state.ctm[0];
+        r.instance[1] = m_state.ctm[1];
+        r.loc = loc;
         ++m_sources[r.source].uses;
         m_shapes.push_back(std::move(r));
     }
@@ -155,14 +199,16 @@ void SceneBuilder::world_begin(const FileLoc& loc) {
         throw_input_error(loc, "WorldBegin inside the {} opened at {}",
                           scope_name(m_scopes.back().kind), m_scopes.back().loc.to_string());
     m_in_world = true;
-    m_state.ctm = Transform();
-    m_named_frames["world"] = m_state.ctm;
+    m_state.ctm[0] = m_state.ctm[1] = Transform();
+    m_state.active_transforms = kAllTransforms;
+    m_named_frames["world"] = {Transform(), Transform()};
 }
 
 void SceneBuilder::camera(const std::string& name, ParameterList params, const FileLoc& loc) {
     // As pbrt: the CTM is the camera's world-to-camera transform, and "camera" names its frame.
-    m_desc.world_to_camera = m_state.ctm;
-    m_named_frames["camera"] = m_state.ctm.inverse();
+    m_desc.world_to_camera = m_state.ctm[0];
+    m_desc.world_to_camera_end = m_state.ctm[1];
+    m_named_frames["camera"] = {m_state.ctm[0].inverse(), m_state.ctm[1].inverse()};
     entity(&SceneDesc::camera, name, std::move(params), loc);
 }
 
@@ -255,9 +301,14 @@ const Material* SceneBuilder::default_material(const FileLoc& loc) {
     return m_default_material;
 }
 
-void SceneBuilder::add_shape(size_t source) {
-    ShapeRecord r{source, m_state.ctm, m_state.reverse_orientation, m_state.material,
-                  m_state.area_light};
+void SceneBuilder::add_shape(size_t source, const FileLoc& loc) {
+    ShapeRecord r{source,
+                  {m_state.ctm[0], m_state.ctm[1]},
+                  {Transform(), Transform()},
+                  m_state.reverse_orientation,
+                  m_state.material,
+                  m_state.area_light,
+                  loc};
     if (m_current_object) {
         // As pbrt-v4: area lights are ignored inside object instances.
         r.area_light = nullptr;
@@ -310,12 +361,18 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
             }
         });
     }
-    add_shape(m_sources.size() - 1);
+    add_shape(m_sources.size() - 1, loc);
 }
 
 void SceneBuilder::light_source(const std::string& type, const ParameterList& params,
                                 const FileLoc& loc) {
-    auto light = create_light(type, params, m_state.ctm, m_desc.base_dir, loc);
+    // pbrt-v4 warns and uses the start transform; an error here says so instead.
+    if (ctm_animated())
+        throw_input_error(loc,
+                          "LightSource \"{}\" under an animated transform: moving lights are not "
+                          "supported (set the light's transform with ActiveTransform All)",
+                          type);
+    auto light = create_light(type, params, m_state.ctm[0], m_desc.base_dir, loc);
     params.check_unused();
     m_desc.lights.push_back(std::move(light));
 }
@@ -342,13 +399,38 @@ SceneDesc SceneBuilder::finish() {
     for (ShapeRecord& r : m_shapes)
         if (!r.material) r.material = default_material(m_sources[r.source].loc);
 
+    // Moving shapes: the world transform at each time step of the mesh's motion. pbrt-v4 does
+    // not support area lights on them, nor do we.
+    const float t0 = m_desc.transform_start_time, t1 = m_desc.transform_end_time;
+    std::vector<std::vector<Transform>> motion(m_shapes.size());
+    for (size_t i = 0; i < m_shapes.size(); ++i) {
+        const ShapeRecord& r = m_shapes[i];
+        AnimatedTransform obj(r.to_world[0], t0, r.to_world[1], t1);
+        AnimatedTransform inst(r.instance[0], t0, r.instance[1], t1);
+        if (!obj.is_animated() && !inst.is_animated()) continue;
+        if (r.area_light)
+            throw_input_error(r.loc,
+                              "a shape under an animated transform cannot be an area light "
+                              "(AreaLightSource at {}); pbrt-v4 does not support moving area "
+                              "lights either",
+                              r.area_light->loc.to_string());
+        int steps = motion_segments(obj.rotation_angle() + inst.rotation_angle());
+        for (int k = 0; k <= steps; ++k) {
+            float t = lerp(float(k) / float(steps), t0, t1);
+            motion[i].push_back(inst.at(t) * obj.at(t));
+        }
+    }
+
     // Step 2: world-space meshes. A source used once is moved, an instanced one copied.
     m_desc.meshes.resize(m_shapes.size());
     parallel_for(size_t(0), m_shapes.size(), [&](size_t i) {
         const ShapeRecord& r = m_shapes[i];
         MeshSource& s = m_sources[r.source];
         auto mesh = s.uses == 1 ? std::move(s.mesh) : std::make_unique<TriangleMesh>(*s.mesh);
-        transform_mesh(*mesh, r.to_world, r.reverse_orientation);
+        if (!motion[i].empty())
+            transform_mesh_motion(*mesh, motion[i], r.reverse_orientation);
+        else
+            transform_mesh(*mesh, r.instance[0] * r.to_world[0], r.reverse_orientation);
         mesh->material = r.material;
         m_desc.meshes[i] = std::move(mesh);
     });

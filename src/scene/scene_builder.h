@@ -3,6 +3,7 @@
 // that become the SceneDesc. The parser (parser.cpp) calls one method per directive.
 #pragma once
 
+#include <array>
 #include <deque>
 #include <map>
 #include <string>
@@ -29,17 +30,24 @@ public:
     void require_world(const std::string& directive, const FileLoc& loc) const;
 
     // Transforms: each multiplies the CTM on the right, as pbrt does.
-    void identity() { m_state.ctm = Transform(); }
-    void translate(const Vec3& d) { m_state.ctm = m_state.ctm * Transform::translate(d); }
-    void scale(const Vec3& s) { m_state.ctm = m_state.ctm * Transform::scale(s); }
+    // Under ActiveTransform StartTime or EndTime they change only that CTM.
+    void identity() { set_ctm(Transform()); }
+    void translate(const Vec3& d) { concat(Transform::translate(d)); }
+    void scale(const Vec3& s) { concat(Transform::scale(s)); }
     void rotate(float degrees, const Vec3& axis, const FileLoc& loc);
     void look_at(const Vec3& eye, const Vec3& look, const Vec3& up, const FileLoc& loc);
     // `m` as written in the file: pbrt stores matrices column by column, so they are transposed.
     void transform(const double m[16], const FileLoc& loc);
     void concat_transform(const double m[16], const FileLoc& loc);
-    void coordinate_system(const std::string& name) { m_named_frames[name] = m_state.ctm; }
+    void coordinate_system(const std::string& name) {
+        m_named_frames[name] = {m_state.ctm[0], m_state.ctm[1]};
+    }
     void coord_sys_transform(const std::string& name, const FileLoc& loc);
     void reverse_orientation() { m_state.reverse_orientation = !m_state.reverse_orientation; }
+    // `ActiveTransform StartTime|EndTime|All`.
+    void active_transform(const std::string& which, const FileLoc& loc);
+    // `TransformTimes start end` (before WorldBegin): the times of the two CTMs.
+    void transform_times(double start, double end, const FileLoc& loc);
 
     void begin_scope(ScopeKind kind, const FileLoc& loc);
     void end_scope(ScopeKind kind, const FileLoc& loc);
@@ -74,13 +82,16 @@ public:
 
 private:
     const Material* default_material(const FileLoc& loc);
-    void add_shape(size_t source);
+    void add_shape(size_t source, const FileLoc& loc);
+    void set_ctm(const Transform& t);
+    void concat(const Transform& t);
+    bool ctm_animated() const;
 
     SceneDesc m_desc;
     GraphicsState m_state;
     std::vector<Scope> m_scopes;
     bool m_in_world = false;
-    std::map<std::string, Transform> m_named_frames;
+    std::map<std::string, std::array<Transform, 2>> m_named_frames;
     std::map<std::string, const Material*> m_named_materials;
     const Material* m_default_material = nullptr;
     ImageCache m_images;

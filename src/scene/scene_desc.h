@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/animated_transform.h"
 #include "core/params.h"
 #include "geometry/mesh.h"
 #include "lights/light.h"
@@ -23,7 +24,14 @@ struct SceneEntity {
 
 struct SceneDesc {
     SceneEntity camera, film, sampler, filter, integrator;
-    Transform world_to_camera;  // the CTM at the Camera directive
+    Transform world_to_camera;      // the CTM at the Camera directive (the start one)
+    Transform world_to_camera_end;  // the end CTM there (equal unless the camera moves)
+    float transform_start_time = 0, transform_end_time = 1;  // TransformTimes
+    // The camera's motion between the transform times.
+    AnimatedTransform camera_to_world() const {
+        return AnimatedTransform(world_to_camera.inverse(), transform_start_time,
+                                 world_to_camera_end.inverse(), transform_end_time);
+    }
     std::vector<std::unique_ptr<TriangleMesh>> meshes;
     std::vector<std::unique_ptr<Material>> materials;  // owned; meshes point into them
     std::vector<std::unique_ptr<Light>> lights;        // every light, area lights included

@@ -63,8 +63,8 @@ void BdptIntegrator::render_sample(const RenderContext& ctx, Point2i pixel, int 
     light_vertices.resize(size_t(m_max_depth) + 1);
     int nc = generate_camera_subpath(*m_ctx, ray, sampler, scratch, m_max_depth + 2,
                                      camera_vertices.data());
-    int nl =
-        generate_light_subpath(*m_ctx, sampler, scratch, m_max_depth + 1, light_vertices.data());
+    int nl = generate_light_subpath(*m_ctx, sampler, scratch, m_max_depth + 1, ray.time,
+                                    light_vertices.data());
     RGB L;
     for (int t = 1; t <= nc; ++t)
         for (int s = 0; s <= nl; ++s) {

@@ -24,7 +24,9 @@ void LightTracerIntegrator::render_sample(const RenderContext& ctx, Point2i, int
     // A light path of up to maxdepth + 1 vertices (maxdepth bounces before the lens).
     thread_local std::vector<PathVertex> path;
     path.resize(size_t(m_max_depth) + 1);
-    int n = generate_light_subpath(*m_ctx, sampler, scratch, m_max_depth + 1, path.data());
+    // The path's time, uniform over the shutter as a camera ray's.
+    float time = ctx.camera.sample_time(sampler.get_1d());
+    int n = generate_light_subpath(*m_ctx, sampler, scratch, m_max_depth + 1, time, path.data());
 
     // Each vertex seen through a point on the lens: one get_2d() per connectible vertex.
     for (int i = 0; i < n; ++i) {
@@ -34,9 +36,10 @@ void LightTracerIntegrator::render_sample(const RenderContext& ctx, Point2i, int
         bool area_origin =
             i == 0 && v.on_surface() && v.light && v.light->type() == LightType::Area;
         if (v.kind != VertexKind::Surface && !area_origin) continue;
-        auto cs = ctx.camera.sample_wi(v.p(), u);
+        auto cs = ctx.camera.sample_wi(v.p(), u, time);
         if (!cs) continue;
         PathVertex lens = PathVertex::camera(cs->p_lens, cs->n_lens, RGB());
+        lens.si.time = time;
         RGB f;
         if (i == 0) {
             // The light itself: radiance towards the lens over the density of its origin

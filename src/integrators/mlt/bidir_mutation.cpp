@@ -56,7 +56,7 @@ bool extend_from_light(const BdptScene& ctx, PathVertex* path, int count, Sample
     float pdf_pos = 0, pdf_dir = 0;
     l.light->pdf_le(Ray{l.p(), d}, l.ng(), &pdf_pos, &pdf_dir);
     if (!(pdf_dir > 0)) return false;
-    Ray ray{l.on_surface() ? l.si.offset_origin(d) : l.p(), d};
+    Ray ray{l.on_surface() ? l.si.offset_origin(d) : l.p(), d, kInfinity, l.si.time};
     return continue_subpath(ctx, ray, pdf_dir, sampler, scratch, count, TransportMode::Importance,
                             path) == count;
 }
@@ -106,6 +106,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     MltPath y;
     y.p_raster = x.p_raster;
     y.u_lens = x.u_lens;
+    y.u_time = x.u_time;
 
     // 3. The eye side: a new camera ray when the lens or its first vertex went (through the kept
     //    lens point if there is one), else the walk from x_a; a deleted lens with l_E = 1 is
@@ -114,7 +115,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     if (l_e > 0 && a <= 0 && t >= 2) {
         Vec2 film = sampler.get_2d();
         CameraSample cs{Vec2(film.x * float(cam.width()), film.y * float(cam.height())), x.u_lens,
-                        0};
+                        x.u_time};
         if (a < 0) cs.p_lens = sampler.get_2d();
         if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, ev.data()) != t)
             return std::nullopt;
@@ -132,7 +133,9 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     const int kept_l = n - b;
     for (int k = b; k < n; ++k) lv[size_t(n - 1 - k)] = x.v[size_t(k)];
     if (l_l > 0 && kept_l == 0 && s >= 2) {
-        if (generate_light_subpath(ctx, sampler, scratch, s, lv.data()) != s) return std::nullopt;
+        if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(x.u_time),
+                                   lv.data()) != s)
+            return std::nullopt;
     } else if (l_l > 0 && kept_l == 1) {
         if (!extend_from_light(ctx, &lv[1], l_l, sampler, scratch)) return std::nullopt;
     } else if (l_l > 0 && kept_l >= 2) {
@@ -154,16 +157,18 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
         PathVertex& q = lv[size_t(s - 1)];
         if (q.kind != VertexKind::Surface || !q.is_connectible()) return std::nullopt;
         if (a < 0) {
-            auto cs = cam.sample_wi(q.p(), sampler.get_2d());
+            auto cs = cam.sample_wi(q.p(), sampler.get_2d(), q.si.time);
             if (!cs) return std::nullopt;
             ev[0] = PathVertex::camera(cs->p_lens, cs->n_lens, RGB(1.f));
+            ev[0].si.time = q.si.time;
             y.p_raster = cs->p_raster;
             if (cam.lens_radius() > 0) {
-                Vec3 pl = cam.camera_to_world().inverse().point(cs->p_lens);
+                Vec3 pl = cam.camera_to_world(q.si.time).inverse().point(cs->p_lens);
                 y.u_lens = invert_uniform_disk_concentric(
                     Vec2(pl.x / cam.lens_radius(), pl.y / cam.lens_radius()));
             }
-        } else if (cam.importance(Ray{ev[0].p(), dir(ev[0], q)}, &y.p_raster) == 0) {
+        } else if (cam.importance(Ray{ev[0].p(), dir(ev[0], q), kInfinity, ev[0].si.time},
+                                  &y.p_raster) == 0) {
             return std::nullopt;
         }
         if (!mutually_visible(ctx.scene, q, ev[0])) return std::nullopt;

@@ -66,7 +66,7 @@ void trace_tries(const BdptScene& ctx, const MltPath& from, int j, const Vec2* u
         y.p_raster = from.p_raster + lens_offset(cam, u[i].x, u[i].y);
         const Vec2& p = y.p_raster;
         active[i] = p.x >= 0 && p.y >= 0 && p.x < float(cam.width()) && p.y < float(cam.height());
-        if (active[i]) rays[i] = cam.generate_ray({p, from.u_lens, 0});
+        if (active[i]) rays[i] = cam.generate_ray({p, from.u_lens, from.u_time});
     }
 
     // 2. The specular chains with the lobes of `from`, one packet per bounce, to vertex j.

@@ -95,11 +95,14 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
     if (strategy) *strategy = s;
     const PerspectiveCamera& cam = ctx.camera;
     Vec2 u = sampler.get_2d();
-    CameraSample cs{Vec2(u.x * float(cam.width()), u.y * float(cam.height())), sampler.get_2d(), 0};
+    Vec2 u_lens = sampler.get_2d();
+    float u_time = sampler.get_1d();
+    CameraSample cs{Vec2(u.x * float(cam.width()), u.y * float(cam.height())), u_lens, u_time};
     std::vector<PathVertex> cv(static_cast<size_t>(t)), lv(static_cast<size_t>(std::max(s, 1)));
     if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, cv.data()) != t)
         return std::nullopt;
-    if (generate_light_subpath(ctx, sampler, scratch, s, lv.data()) != s) return std::nullopt;
+    if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(u_time), lv.data()) != s)
+        return std::nullopt;
     PathVertex sampled;
     Connection c = connect_bdpt(ctx, lv.data(), cv.data(), s, t, sampler, &sampled);
     if (c.L.is_black()) return std::nullopt;
@@ -108,10 +111,11 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
     MltPath x;
     x.p_raster = c.splat ? c.p_raster : cs.p_film;
     x.u_lens = cs.p_lens;
+    x.u_time = u_time;
     if (t == 1) {
         x.v.push_back(sampled);
         if (cam.lens_radius() > 0) {
-            Vec3 pl = cam.camera_to_world().inverse().point(sampled.p());
+            Vec3 pl = cam.camera_to_world(sampled.si.time).inverse().point(sampled.p());
             x.u_lens = invert_uniform_disk_concentric(
                 Vec2(pl.x / cam.lens_radius(), pl.y / cam.lens_radius()));
         }
@@ -181,7 +185,7 @@ std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, in
     // Through the same specular chain to a new vertex j, joined to the old j + 1.
     MltPath y = x;
     y.p_raster = p;
-    Ray ray = cam.generate_ray({p, x.u_lens, 0});
+    Ray ray = cam.generate_ray({p, x.u_lens, x.u_time});
     for (int k = 1; k <= j; ++k) {
         std::optional<PathVertex> v;
         if (k == 1 && first_hit) {
@@ -242,7 +246,7 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
     float theta = exponential_size(u_size, kCausticAngleMin, kCausticAngleMax);
     float phi = 2 * kPi * u_angle;
     Vec3 w2 = Frame::from_z(w).to_world(spherical_direction(std::sin(theta), std::cos(theta), phi));
-    Ray ray{vm.on_surface() ? vm.si.offset_origin(w2) : vm.p(), w2};
+    Ray ray{vm.on_surface() ? vm.si.offset_origin(w2) : vm.p(), w2, kInfinity, vm.si.time};
 
     // Back through the specular chain to a new vertex 1, seen from the same lens point.
     MltPath y = x;
@@ -260,7 +264,8 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
     const PathVertex &e = y.v[0], &d1 = y.v[1];
     if (!d1.is_connectible()) return std::nullopt;
     Vec2 raster;
-    if (ctx.camera.importance(Ray{e.p(), normalize(d1.p() - e.p())}, &raster) == 0)
+    if (ctx.camera.importance(Ray{e.p(), normalize(d1.p() - e.p()), kInfinity, e.si.time},
+                              &raster) == 0)
         return std::nullopt;
     if (!mutually_visible(ctx.scene, d1, e)) return std::nullopt;
     y.p_raster = raster;

@@ -186,8 +186,8 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         const PathVertex &e = x.v[0], &q = x.v[1];
         Vec3 wi = dir(q, e), wo = dir(q, x.v[2]);
         float d2 = distance_squared(e.p(), q.p());
-        float We = ctx.camera.importance(Ray{e.p(), -wi});
-        float pdf_wi = d2 / (abs_dot(ctx.camera.forward(), wi) * ctx.camera.lens_area());
+        float We = ctx.camera.importance(Ray{e.p(), -wi, kInfinity, e.si.time});
+        float pdf_wi = d2 / (abs_dot(ctx.camera.forward(e.si.time), wi) * ctx.camera.lens_area());
         C = light_beta(1) * q.bsdf.eval(wo, wi, TransportMode::Importance) *
             (abs_dot(wi, q.ns()) * We / pdf_wi);
     } else {
@@ -231,9 +231,9 @@ RGB caustic_target(const BdptScene& ctx, const MltPath& x, int m) {
     float d2 = length_squared(to_lens);
     if (d2 == 0) return RGB();
     to_lens = to_lens / std::sqrt(d2);
-    float We = ctx.camera.importance(Ray{e.p(), -to_lens});
-    T *=
-        scattering(x, 1) * (cosine(d1, to_lens) * We * abs_dot(ctx.camera.forward(), to_lens) / d2);
+    float We = ctx.camera.importance(Ray{e.p(), -to_lens, kInfinity, e.si.time});
+    T *= scattering(x, 1) *
+         (cosine(d1, to_lens) * We * abs_dot(ctx.camera.forward(e.si.time), to_lens) / d2);
     return T;
 }
 

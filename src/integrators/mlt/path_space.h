@@ -24,6 +24,11 @@ struct MltPath {
     std::vector<PathVertex> v;
     Vec2 p_raster;  // where the path lands on the film
     Vec2 u_lens;    // the lens sample of v[0] (for perturbations that keep the lens point)
+    // The path's time as a fraction of the shutter (every vertex's si.time is the camera's
+    // sample_time of it). Drawn with the path at the bootstrap, kept by every mutation: each chain
+    // stays at its time, and the bootstrap's choice of chains, in proportion to contribution,
+    // spreads the chains over the shutter as the time integral needs.
+    float u_time = 0;
     int depth() const { return int(v.size()) - 2; }
 };
 
