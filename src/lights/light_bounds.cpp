@@ -22,24 +22,27 @@ constexpr float kCosSlack = 1e-4f;
 
 float LightBounds::importance(const Vec3& p, const Vec3& n) const {
     if (phi <= 0 || box.empty()) return 0;
-    Vec3 pc = box.center();
-    // The distance to the centre, but no less than half the box's diagonal: inside or near a big
-    // cluster the centre's distance means little (pbrt-v4 clamps d^2 by half the diagonal's
-    // length, which mixes units; this is its square).
-    float d2 = std::max(distance_squared(p, pc), length_squared(box.diagonal()) / 4);
+    // The distance to the centre, but no less than the radius of the box's bounding sphere:
+    // inside or near a big cluster the centre's distance means little (pbrt-v4 clamps d^2 by
+    // half the diagonal's length, which mixes units; this is its square).
+    Vec3 wi = p - box.center();
+    float dc2 = length_squared(wi), r2 = length_squared(box.diagonal()) / 4;
+    float d2 = std::max(dc2, r2);
     if (!(d2 > 0)) return 0;  // p on a point light: it cannot light p
-    Vec3 wi = p - pc;
-    float len = length(wi);
-    wi = len > 0 ? wi / len : Vec3(0, 0, 1);
+    wi = dc2 > 0 ? wi / std::sqrt(dc2) : Vec3(0, 0, 1);
 
     // theta_w: from the cone's axis to p; two-sided emitters count either way.
     float cos_w = dot(w, wi);
     if (two_sided) cos_w = std::abs(cos_w);
     float sin_w = safe_sqrt(1 - sqr(cos_w));
-    // theta_b: the half-angle the box subtends at p (the sphere when p is inside it).
-    DirectionCone sub = bound_subtended_directions(box, p);
-    float cos_b = sub.is_entire_sphere() ? -1.f : sub.cos_theta;
-    float sin_b = safe_sqrt(1 - sqr(cos_b));
+    // theta_b: the half-angle the box's bounding sphere subtends at p (any angle when p is
+    // inside it). Rounding is covered by kCosSlack below.
+    float cos_b = -1, sin_b = 0;
+    if (dc2 > r2) {
+        float sin2_b = r2 / dc2;
+        cos_b = safe_sqrt(1 - sin2_b);
+        sin_b = std::sqrt(sin2_b);
+    }
     // theta' = max(0, theta_w - theta_o - theta_b): the smallest angle from any emitter normal
     // to the direction towards p. Beyond theta_e nothing reaches p.
     float sin_o = safe_sqrt(1 - sqr(cos_theta_o));

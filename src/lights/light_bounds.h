@@ -18,11 +18,11 @@ namespace ml {
 
 struct LightBounds {
     Bounds3 box;
-    Vec3 w{0, 0, 1};           // axis of the cone of emitter normals
-    float phi = 0;             // see above; 0: emits nothing
-    float cos_theta_o = 1;     // half-angle of the cone of normals
-    float cos_theta_e = 0;     // how far from its normal a point emits (pi / 2: a diffuse face)
-    bool two_sided = false;    // emits on both sides of each normal
+    Vec3 w{0, 0, 1};         // axis of the cone of emitter normals
+    float phi = 0;           // see above; 0: emits nothing
+    float cos_theta_o = 1;   // half-angle of the cone of normals
+    float cos_theta_e = 0;   // how far from its normal a point emits (pi / 2: a diffuse face)
+    bool two_sided = false;  // emits on both sides of each normal
 
     // Estimated irradiance at p (surface normal n; zero: none, as in a medium). Zero only where
     // no light of the bounds can reach p: every cone test is conservative.

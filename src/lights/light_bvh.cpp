@@ -73,7 +73,8 @@ int32_t LightBvh::build(std::vector<std::pair<int32_t, LightBounds>>& items, siz
     }
     Vec3 extent = centroids.diagonal();
     size_t mid = begin + (end - begin) / 2;
-    int best_dim = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    int best_dim =
+        extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
     if (depth < kMedianDepth) {
         // The bucket split of least cost over the three axes.
         float best_cost = kInfinity;
@@ -85,8 +86,8 @@ int32_t LightBvh::build(std::vector<std::pair<int32_t, LightBounds>>& items, siz
             LightBounds buckets[kBuckets];
             for (size_t i = begin; i < end; ++i) {
                 float c = items[i].second.box.center()[dim];
-                int b = std::min(kBuckets - 1,
-                                 int(kBuckets * (c - centroids.lo[dim]) / extent[dim]));
+                int b =
+                    std::min(kBuckets - 1, int(kBuckets * (c - centroids.lo[dim]) / extent[dim]));
                 buckets[std::max(0, b)] = union_bounds(buckets[std::max(0, b)], items[i].second);
             }
             float kr = d[dim] > 0 ? dmax / d[dim] : 1.f;

@@ -76,8 +76,8 @@ void LightSampler::build() {
         // A delta light has its one direction, weight L (pdf 1); others kIrradianceSamples.
         uint32_t m = is_delta_light(light->type()) ? 1 : kIrradianceSamples;
         for (uint32_t j = 0; j < m; ++j) {
-            auto ls = light->sample_li(LightSampleContext{},
-                                       shifted_hammersley(j, m, Vec2(0.5f, 0.5f)));
+            auto ls =
+                light->sample_li(LightSampleContext{}, shifted_hammersley(j, m, Vec2(0.5f, 0.5f)));
             if (!ls || !(ls->pdf_solid_angle > 0)) continue;
             float l = std::max(0.f, ls->L.luminance()) / ls->pdf_solid_angle / float(m);
             if (!std::isfinite(l) || l <= 0) continue;
@@ -90,11 +90,17 @@ void LightSampler::build() {
                 Vec3 n = equal_area_square_to_sphere(
                     {(x + 0.5f) / kIrradianceRes, (y + 0.5f) / kIrradianceRes});
                 double e = 0;
-                for (size_t j = 0; j < dirs.size(); ++j) e += weights[j] * std::abs(dot(n, dirs[j]));
+                for (size_t j = 0; j < dirs.size(); ++j)
+                    e += weights[j] * std::abs(dot(n, dirs[j]));
                 m_irradiance[k][size_t(y * kIrradianceRes + x)] = float(e);
                 mean += e;
             }
         m_irradiance_mean[k] = float(mean / (kIrradianceRes * kIrradianceRes));
+        // A cell's centre may see none of the light (a sun at right angles) while other
+        // normals in the cell do: no entry is zero, so the light stays a choice everywhere.
+        float floor = 1e-3f * m_irradiance_mean[k];
+        if (!(floor > 0)) floor = 1e-30f;
+        for (float& e : m_irradiance[k]) e = std::max(e, floor);
     }
 }
 
@@ -129,13 +135,17 @@ int LightSampler::top_level(const LightSampleContext& ctx, float* p) const {
         p[n_unbounded] = m_bvh.node(0).bounds.importance(ctx.p, n);
         sum += p[n_unbounded];
     }
-    float uniform = 1.f / float(count);
     if (!(sum > 0) || !std::isfinite(sum)) {
-        for (int k = 0; k < count; ++k) p[k] = uniform;
-    } else {
-        for (int k = 0; k < count; ++k)
-            p[k] = (1 - kTopLevelUniform) * (p[k] / sum) + kTopLevelUniform * uniform;
+        for (int k = 0; k < count; ++k) p[k] = 1.f / float(count);
+        return count;
     }
+    // The uniform share goes to the choices with some importance: one with none cannot light
+    // the point (the tree's root and the tables are conservative).
+    int positive = 0;
+    for (int k = 0; k < count; ++k) positive += p[k] > 0 ? 1 : 0;
+    float uniform = kTopLevelUniform / float(positive);
+    for (int k = 0; k < count; ++k)
+        p[k] = p[k] > 0 ? (1 - kTopLevelUniform) * (p[k] / sum) + uniform : 0.f;
     return count;
 }
 

@@ -69,11 +69,11 @@ private:
 
     // "tree"
     bool m_tree = false;
-    LightBvh m_bvh;                  // items: indices into m_bounded
-    std::vector<int> m_bounded;      // light index of each tree item
-    std::vector<int> m_tree_item;    // per light: its tree item, or -1
-    std::vector<int> m_unbounded;    // light indices of lights chosen apart
-    std::vector<int> m_top_slot;     // per light: its top-level slot, or -1
+    LightBvh m_bvh;                            // items: indices into m_bounded
+    std::vector<int> m_bounded;                // light index of each tree item
+    std::vector<int> m_tree_item;              // per light: its tree item, or -1
+    std::vector<int> m_unbounded;              // light indices of lights chosen apart
+    std::vector<int> m_top_slot;               // per light: its top-level slot, or -1
     static constexpr int kIrradianceRes = 16;  // octahedral grid of normals per side
     // Per unbounded light: E(n) over the grid (and its mean, for receivers with no normal).
     std::vector<std::array<float, kIrradianceRes * kIrradianceRes>> m_irradiance;
