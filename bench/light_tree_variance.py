@@ -7,18 +7,20 @@ variance of one render is (a - b)^2 / 2, so the estimate is unbiased whatever th
 converge to. Printed per scene: the relative variance per sample,
 mean((a - b)^2 / 2 / (r^2 + 0.01)) * spp, r a separate render at --ref-spp (tree sampler, seed
 99; relMSE's normalisation, with a denominator independent of a and b so that fireflies count
-fully), its ratio tree / power, the time per sample and the efficiency ratio (variance x time).
+fully), its ratio tree / power, the CPU time per sample (user + system, all threads; less a 1-spp render's, which
+loads the scene) and the
+efficiency ratio (variance x time).
 Samplers are alternated within a scene so that load on the machine hits both.
 
 Usage: bench/light_tree_variance.py [--spp N] [--ref-spp N] [--threads T] [scene ...]
   scenes: cornell-4096pl, kitchen, classroom (default: all three)
 """
 import os
+import resource
 import struct
 import subprocess
 import sys
 import tempfile
-import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.path.join(ROOT, "build", "manylight")
@@ -45,9 +47,12 @@ def read_pfm(path):
 def render(scene, res, sampler, seed, spp, threads, out):
     cmd = [BIN, "render", scene, "-q", "--resolution", res, "--spp", str(spp), "--threads",
            str(threads), "--seed", str(seed), "--set", "path.lightsampler=" + sampler, "-o", out]
-    t0 = time.time()
+    # CPU time (user + system) of the render: on a shared machine wall time mostly measures the
+    # other users' load.
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(cmd, check=True)
-    return time.time() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
 
 
 def rel_variance(a, b, ref, spp):
@@ -74,7 +79,7 @@ def main():
         del args[i : i + 2]
     names = args or list(SCENES)
     print("| scene | spp | power: rel. var. per sample | tree | tree / power | "
-          "time per spp power / tree (s) | efficiency tree / power |")
+          "CPU s per spp power / tree | efficiency tree / power |")
     print("|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         for name in names:
@@ -93,9 +98,13 @@ def main():
                     out = os.path.join(tmp, "%s-%s-%d.pfm" % (name, sampler, seed))
                     secs[sampler] += render(scene, res, sampler, seed, spp, threads, out)
                     imgs[(sampler, seed)] = read_pfm(out)
+            # Loading and building the scene cost the same for both: a 1-spp render of each
+            # takes them out of the time per sample.
             for sampler in ["power", "tree"]:
+                out = os.path.join(tmp, "%s-%s-1spp.pfm" % (name, sampler))
+                base = render(scene, res, sampler, 3, 1, threads, out)
                 var[sampler] = rel_variance(imgs[(sampler, 1)], imgs[(sampler, 2)], ref, spp)
-                secs[sampler] /= 2 * spp
+                secs[sampler] = (secs[sampler] / 2 - base) / (spp - 1)
             r = var["tree"] / var["power"]
             eff = var["tree"] * secs["tree"] / (var["power"] * secs["power"])
             print("| %s | %d | %.4g | %.4g | **%.3f** | %.3f / %.3f | %.3f |" %

@@ -58,7 +58,7 @@ int32_t LightBvh::build(std::vector<std::pair<int32_t, LightBounds>>& items, siz
     m_nodes.emplace_back();
     if (end - begin == 1) {
         auto& [item, bounds] = items[begin];
-        m_nodes[size_t(index)].bounds = bounds;
+        m_nodes[size_t(index)].bounds = ImportanceBounds(bounds);
         m_nodes[size_t(index)].item = item;
         m_trail[size_t(item)] = trail;
         m_depth[size_t(item)] = int8_t(depth);
@@ -121,7 +121,7 @@ int32_t LightBvh::build(std::vector<std::pair<int32_t, LightBounds>>& items, siz
                          });
     build(items, begin, mid, trail, depth + 1);
     int32_t second = build(items, mid, end, trail | uint64_t(1) << depth, depth + 1);
-    m_nodes[size_t(index)].bounds = all;
+    m_nodes[size_t(index)].bounds = ImportanceBounds(all);
     m_nodes[size_t(index)].second = second;
     return index;
 }

@@ -18,7 +18,7 @@
 namespace ml {
 
 struct LightBvhNode {
-    LightBounds bounds;
+    ImportanceBounds bounds;
     int32_t second = -1;  // interior: index of the second child (the first is the next node)
     int32_t item = -1;    // leaf: the item's index; -1 for interior nodes
     bool is_leaf() const { return item >= 0; }

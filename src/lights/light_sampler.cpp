@@ -117,6 +117,10 @@ int LightSampler::top_level(const LightSampleContext& ctx, float* p) const {
     int count = n_unbounded + (m_bvh.empty() ? 0 : 1);
     if (count == 0) return 0;
     if (count > kMaxTopLevel) return count;  // the caller chooses uniformly
+    if (count == 1) {  // nothing to weigh (the tree alone: its descent finds out the rest)
+        p[0] = 1;
+        return 1;
+    }
     Vec3 n = receiver_normal(ctx);
     bool has_n = length_squared(n) > 0;
     int cell = 0;
