@@ -119,8 +119,8 @@ TEST(RenderPointOverPlane, Whitted) { expect_plane("whitted"); }
 // strategy's must both use it or their weights no longer sum to one. A rough metal floor
 // reflects a dim light while a bright one, 50 times the power, lights it from the side: with
 // power sampling the dim light is rarely picked, which is where a weight without the pmf
-// counts its reflection almost twice. Power and uniform selection must agree.
-TEST(RenderLightSelection, PowerAndUniformAgreeOnAGlossyFloor) {
+// counts its reflection almost twice. Power, uniform and tree selection must agree.
+TEST(RenderLightSelection, PowerUniformAndTreeAgreeOnAGlossyFloor) {
     const std::string scene = R"(
 LookAt 0 1 -3  0 0 0  0 1 0
 Camera "perspective" "float fov" [ 40 ]
@@ -159,6 +159,15 @@ AttributeEnd
     std::printf("power - uniform: %+.5f (mean %.4f, standard error %.5f)\n", d.mean,
                 d.reference_mean, d.stderr_of_mean);
     EXPECT_NEAR(d.mean, 0.0, 4 * d.stderr_of_mean);
+    // The tree sampler's pmf depends on the shading point: the BSDF strategy's weight must use
+    // the pmf at the point the ray left, as next-event estimation there did. Per channel.
+    Image tree = render("tree", 3);
+    for (int c = 0; c < 3; ++c) {
+        test::MeanDifference dt = test::mean_difference(tree, power, c);
+        std::printf("tree - power, channel %d: %+.5f (mean %.4f, standard error %.5f)\n", c,
+                    dt.mean, dt.reference_mean, dt.stderr_of_mean);
+        EXPECT_NEAR(dt.mean, 0.0, 4 * dt.stderr_of_mean) << "channel " << c;
+    }
 }
 
 // The kitchen's blinds in miniature: a closed diffuse-transmission sheet 0.27 mm thick, 2.75

@@ -23,6 +23,20 @@ public:
         }
         m_area = float(total);
         m_tri = Distribution1D(areas);
+        // The tree's bounds: the emitting triangles' corners and the cone of their normals.
+        DirectionCone cone = DirectionCone::empty_cone();
+        for (size_t i = 0; i < areas.size(); ++i) {
+            if (!(areas[i] > 0)) continue;
+            const uint32_t* idx = &mesh->indices[3 * i];
+            for (int k = 0; k < 3; ++k) m_bounds.box.expand(mesh->p[idx[k]]);
+            DirectionCone n(mesh->triangle_normal(i));
+            cone = cone.is_empty() ? n : union_cones(cone, n);
+        }
+        m_bounds.w = cone.axis;
+        m_bounds.cos_theta_o = cone.is_empty() ? 1.f : std::max(-1.f, cone.cos_theta);
+        m_bounds.cos_theta_e = 0;  // diffuse: each point emits over its hemisphere
+        m_bounds.two_sided = two_sided;
+        m_bounds.phi = m_area > 0 ? std::max(0.f, L.luminance()) * m_area : 0.f;
     }
     LightType type() const override { return LightType::Area; }
 
@@ -86,6 +100,7 @@ public:
         *pdf_dir = m_two_sided ? 0.5f * std::abs(c) * kInvPi : pdf_cosine_hemisphere(c);
     }
     RGB power() const override { return m_L * (kPi * m_area * (m_two_sided ? 2.f : 1.f)); }
+    std::optional<LightBounds> bounds() const override { return m_bounds; }
     // n points stratified over the area (uniform density 1 / area): each stands for area / n of
     // the surface, a cosine lobe of peak intensity L * area / n per emitting side.
     void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const override {
@@ -128,6 +143,7 @@ private:
     bool m_two_sided;
     float m_area = 0;
     Distribution1D m_tri;
+    LightBounds m_bounds;
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "core/color.h"
 #include "core/math.h"
 #include "geometry/interaction.h"
+#include "lights/light_bounds.h"
 
 namespace ml {
 
@@ -80,6 +81,10 @@ public:
 
     // Total emitted power (flux), RGB.
     virtual RGB power() const = 0;
+
+    // Where and how the light emits, for the light tree (lights with a position: point, spot,
+    // area); nullopt for distant and infinite lights, which the tree sampler treats apart.
+    virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
 
     // Appends point lights standing for this light (Lightcuts, DESIGN.md section 2): one for a
     // point, spot or distant light; `n` samples for area lights (two lights per sample when

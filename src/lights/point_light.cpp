@@ -41,6 +41,14 @@ public:
         *pdf_dir = pdf_uniform_sphere();
     }
     RGB power() const override { return m_I * (4 * kPi); }
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b;
+        b.box.expand(m_p);
+        b.phi = std::max(0.f, m_I.luminance());
+        b.cos_theta_o = -1;  // every direction
+        b.cos_theta_e = 0;
+        return b;
+    }
     void to_point_lights(int, Sampler&, std::vector<ml::PointLight>& out) const override {
         ml::PointLight pl;
         pl.p = m_p;

@@ -57,6 +57,16 @@ public:
     }
     // The smoothstep integrates to exactly half the falloff band in cos theta.
     RGB power() const override { return m_I * (2 * kPi * (1 - 0.5f * (m_cos_start + m_cos_end))); }
+    // Full intensity within theta_start of the axis, fading out by theta_end (pbrt-v4's bounds).
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b;
+        b.box.expand(m_p);
+        b.w = m_frame.n;
+        b.phi = std::max(0.f, m_I.luminance());
+        b.cos_theta_o = m_cos_start;
+        b.cos_theta_e = std::cos(std::max(0.f, safe_acos(m_cos_end) - safe_acos(m_cos_start)));
+        return b;
+    }
     // An omni light with the same cone and smoothstep falloff (point_light_intensity).
     void to_point_lights(int, Sampler&, std::vector<PointLight>& out) const override {
         PointLight pl;

@@ -9,7 +9,7 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
                    const LightSampler* light_sampler) {
     auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
         if (full_weight) return Le;
-        float pmf = light_sampler ? light_sampler->pmf(light) : 1.f;
+        float pmf = light_sampler ? light_sampler->pmf(prev_ctx, light) : 1.f;
         return Le * power_heuristic(prev_pdf, pmf * light->pdf_li(prev_ctx, ray.d, p, n));
     };
     RGB L;

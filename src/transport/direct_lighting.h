@@ -15,8 +15,8 @@ class LightSampler;
 
 // Emission found by a ray that escaped (hit == null: infinite lights) or hit an area light.
 // From the camera and after delta bounces (`full_weight`) it counts whole; otherwise it is
-// MIS-weighted against next-event estimation having chosen that light with the pmf of
-// `light_sampler` (null: every light is sampled, pmf 1) and sampled the direction.
+// MIS-weighted against next-event estimation at prev_ctx having chosen that light with the pmf
+// of `light_sampler` at prev_ctx (null: every light is sampled, pmf 1) and sampled the direction.
 RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction* hit,
                    bool full_weight, float prev_pdf, const LightSampleContext& prev_ctx,
                    const LightSampler* light_sampler);

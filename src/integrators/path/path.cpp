@@ -8,13 +8,14 @@ namespace ml {
 PathIntegrator::PathIntegrator(const Settings& settings) {
     m_max_depth = settings.get_int("maxdepth", 5);
     m_rr_depth = settings.get_int("rrdepth", 1);
-    m_light_sampler_name = settings.get_string("lightsampler", "power");
-    // pbrt-v4's default "bvh" light sampler has no counterpart here yet: power sampling stands in.
-    if (m_light_sampler_name == "bvh") m_light_sampler_name = "power";
+    m_light_sampler_name = settings.get_string("lightsampler", "tree");
+    // pbrt-v4's "bvh" light sampler is our light tree.
+    if (m_light_sampler_name == "bvh") m_light_sampler_name = "tree";
     settings.get_bool("regularize", false);  // accepted for pbrt-v4 scenes; no effect
     if (m_max_depth < 0) throw UsageError("path: maxdepth must be >= 0");
-    if (m_light_sampler_name != "power" && m_light_sampler_name != "uniform")
-        throw UsageError("path: lightsampler must be power or uniform");
+    if (m_light_sampler_name != "tree" && m_light_sampler_name != "power" &&
+        m_light_sampler_name != "uniform")
+        throw UsageError("path: lightsampler must be tree, power or uniform");
 }
 
 void PathIntegrator::prepare(const Scene& scene) {
@@ -40,11 +41,11 @@ RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampl
         Bsdf bsdf = hit_bsdf(si, scratch);
         if (!bsdf) break;
 
-        // Next-event estimation: one light chosen by power, one sample on it.
+        // Next-event estimation: one light chosen for this point, one sample on it.
         float u_select = sampler.get_1d();
         Vec2 u_light = sampler.get_2d();
         if (bsdf.has_nonspecular()) {
-            if (auto sl = m_light_sampler->sample(u_select))
+            if (auto sl = m_light_sampler->sample(light_context(si), u_select))
                 L += beta * estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf) /
                      sl->pmf;
         }
