@@ -87,10 +87,13 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     //    Under a time limit, in chunks, keeping the paths done once its share of the time is
     //    spent: any prefix of the paths is as valid a bootstrap.
     int n_bootstrap = m_bootstrap;
-    std::vector<float> weight(size_t(n_bootstrap) * depths, 0.f);
+    // Grown chunk by chunk: a bootstrap the time limit stops early never allocates (and the
+    // kernel never zeroes) the whole array, hundreds of MB for 20M paths.
+    std::vector<float> weight;
     const int chunk = ctx.time_limit > 0 ? 4096 : n_bootstrap;
     for (int i0 = 0; i0 < n_bootstrap; i0 += chunk) {
         const int i1 = std::min(n_bootstrap, i0 + chunk);
+        weight.resize(size_t(i1) * depths, 0.f);
         parallel_for(i0, i1, [&](int i) {
             Sampler& sampler = *samplers.local();
             ScratchBuffer& scratch = scratches.local();

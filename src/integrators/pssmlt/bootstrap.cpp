@@ -16,12 +16,15 @@ MltSampler bootstrap_sampler(const MltParams& params, const PrimaryEstimator& es
 Bootstrap::Bootstrap(const PrimaryEstimator& estimator, const MltParams& params, int n,
                      const std::function<bool()>& stop) {
     const size_t depths = size_t(estimator.depth_count());
-    std::vector<float> importance(size_t(n) * depths, 0.f);
+    // Grown chunk by chunk: a bootstrap that the time limit stops early never allocates (and
+    // the kernel never zeroes) the whole n x depths array, hundreds of MB for 20M paths.
+    std::vector<float> importance;
     ThreadLocal<ScratchBuffer> scratch;
     // Paths [p0, p1) of every stratum at a time: all of them at once without `stop`.
     const int chunk = stop ? 4096 : n;
     for (int p0 = 0; p0 < n; p0 += chunk) {
         const int p1 = std::min(n, p0 + chunk);
+        importance.resize(size_t(p1) * depths);
         parallel_for_chunks(
             size_t(p0) * depths, size_t(p1) * depths, size_t(256), [&](size_t begin, size_t end) {
                 ScratchBuffer& buf = scratch.local();
