@@ -33,6 +33,9 @@ void sample_vpls(const Scene& scene, const PerspectiveCamera* camera, const VplO
 // The samplers behind sample_vpls.
 void sample_power_vpls(const Scene& scene, const PerspectiveCamera& camera,
                        const VplOptions& options, PointLightSet& set);
+// power: each light's probability of starting a light path (scene light order).
+std::vector<float> power_light_pmf(const Scene& scene, const PerspectiveCamera& camera,
+                                   const VplOptions& options);
 void sample_bidirectional_vpls(const Scene& scene, const PerspectiveCamera& camera,
                                const VplOptions& options, PointLightSet& set);
 
