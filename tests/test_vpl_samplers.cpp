@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -66,13 +67,14 @@ std::pair<double, double> seed_mean(const SeedMeans& a, int c, const SeedMeans* 
 }
 
 // Paired: the mean difference within 4.5 standard errors of zero, and a tolerance that can
-// fail (it must detect a bias of 8% of the image mean).
-void expect_same_mean(const SeedMeans& a, const SeedMeans& b, const std::string& what) {
+// fail (it must detect a bias of `detect` times the image mean).
+void expect_same_mean(const SeedMeans& a, const SeedMeans& b, const std::string& what,
+                      double detect = 0.08) {
     for (int c = 0; c < 3; ++c) {
         auto [d, se] = seed_mean(a, c, &b);
         double ref = seed_mean(b, c).first;
         EXPECT_NEAR(d, 0.0, 4.5 * se) << what << " channel " << c << ", mean " << ref;
-        EXPECT_LT(4.5 * se, 0.08 * ref) << what << " channel " << c << ": too noisy to tell";
+        EXPECT_LT(4.5 * se, detect * ref) << what << " channel " << c << ": too noisy to tell";
     }
 }
 
@@ -118,7 +120,7 @@ TEST(VplSamplers, StandardIsGenerateVpls) {
 TEST(VplSamplers, FurnaceEverySampler) {
     const int depth = 3;
     double expected = (1 - std::pow(0.5, depth + 1)) / (1 - 0.5);
-    for (const char* sampler : {"standard", "power", "bidirectional"}) {
+    for (const char* sampler : {"standard", "power", "bidirectional", "metropolis"}) {
         SeedMeans st = over_seeds(6, [&](uint64_t seed) {
             RenderOptions opt = vpl_options(sampler, seed, 64, 2);
             opt.max_depth = depth;
@@ -202,7 +204,10 @@ TEST(VplSamplers, CornellBoxAgreesWithStandard) {
         });
     };
     // (One light: power sampling is standard's; the two-light test below is its own.)
-    expect_same_mean(render("bidirectional"), render("standard"), "bidirectional");
+    SeedMeans standard = render("standard");
+    expect_same_mean(render("bidirectional"), standard, "bidirectional");
+    // MIR is consistent, not unbiased, and one chain's VPLs are correlated: a looser test.
+    expect_same_mean(render("metropolis"), standard, "metropolis", 0.2);
 }
 
 // Both lights seen (B at x = 1.5, in the room): power sampling starts paths at them in
@@ -219,9 +224,95 @@ TEST(VplSamplers, PowerAgreesWithStandardOnTwoLights) {
     expect_same_mean(render("power"), render("standard"), "power");
 }
 
+// MIR's normalisation on its own: the geometric VPLs' multiplicities add up to the chain's
+// steps, the power they were given adds up to P_c (all kept: the furnace's pilot sees every
+// VPL), and P_c, the chain's bootstrap estimate, agrees with an independent estimate of the
+// same integral: the image mean of standard VPLs' indirect light in the furnace,
+// Le (a + a^2 + ... ) up to the VPLs' depth, minus what the sampled direct light gives.
+TEST(VplSamplers, MetropolisNormalisation) {
+    const int depth = 3;
+    SceneDesc desc = parse_scene_string(test::furnace_scene(0.5f, 1.f, 8), ".");
+    Scene scene(std::move(desc));
+    bool ok = false;
+    Transform to_world = Transform::look_at({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, &ok).inverse();
+    PerspectiveCamera camera(ParameterList(), to_world, 8, 8);
+    VplOptions o;
+    o.count = 512;
+    o.max_depth = depth - 1;  // as vpl.max_depth = maxdepth - 1
+    o.seed = 11;
+    o.sampler.kind = VplSamplerKind::Metropolis;
+    o.sampler.tries = 2;
+    PointLightSet set;
+    MirTrace trace;
+    sample_metropolis_vpls(scene, camera, o, set, &trace);
+    EXPECT_EQ(trace.steps, 512u);
+    EXPECT_EQ(trace.positions.size(), 512u);
+    EXPECT_GT(trace.geometric, 20u);
+    EXPECT_LE(trace.geometric, 512u);
+    EXPECT_NEAR(trace.kept_power, trace.Pc, 1e-6 * trace.Pc);
+    // In the furnace a VPL at bounce b gives radiance Le a^(b+1) in total (b = 1..depth-1): the
+    // luminance of a + ... with Le = 1, a = 0.5: 0.25 + 0.125 for depth 3.
+    double expected = 0;
+    for (int b = 1; b <= depth - 1; ++b) expected += std::pow(0.5, b + 1);
+    EXPECT_NEAR(trace.Pc, expected, 0.05 * expected);
+}
+
+// MTMH decorrelates: the integrated autocorrelation time of the VPL position (x) and of f falls
+// from plain MH (1 try) to 4 tries, on the Cornell box.
+double integrated_autocorrelation(const std::vector<double>& v) {
+    size_t n = v.size();
+    double mean = 0, var = 0;
+    for (double x : v) mean += x;
+    mean /= double(n);
+    for (double x : v) var += (x - mean) * (x - mean);
+    var /= double(n);
+    if (!(var > 0)) return 1;
+    double tau = 1;
+    for (size_t lag = 1; lag < n / 4; ++lag) {
+        double c = 0;
+        for (size_t i = 0; i + lag < n; ++i) c += (v[i] - mean) * (v[i + lag] - mean);
+        c /= double(n - lag) * var;
+        if (c <= 0.05) break;  // the initial positive sequence, cut where it fades
+        tau += 2 * c;
+    }
+    return tau;
+}
+
+TEST(VplSamplers, MultipleTryDecorrelates) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    SceneDesc desc = parse_scene_file(test::shared_path("scenes/cornell-box/scene-v4.pbrt"));
+    Transform to_world = desc.world_to_camera.inverse();
+    Scene scene(std::move(desc));
+    PerspectiveCamera camera(ParameterList(), to_world, 16, 16);
+    double tau[2][2];
+    int tries[2] = {1, 4};
+    for (int t = 0; t < 2; ++t) {
+        VplOptions o;
+        o.count = 2048;
+        o.max_depth = 3;
+        o.seed = 5;
+        o.sampler.kind = VplSamplerKind::Metropolis;
+        o.sampler.tries = tries[t];
+        o.sampler.pilot = 16;
+        PointLightSet set;
+        MirTrace trace;
+        sample_metropolis_vpls(scene, camera, o, set, &trace);
+        std::vector<double> px, f;
+        for (size_t i = 0; i < trace.positions.size(); ++i) {
+            px.push_back(trace.positions[i].x);
+            f.push_back(trace.contributions[i]);
+        }
+        tau[t][0] = integrated_autocorrelation(px);
+        tau[t][1] = integrated_autocorrelation(f);
+        std::printf("MIR tries %d: integrated autocorrelation time: position %.2f, f %.2f\n",
+                    tries[t], tau[t][0], tau[t][1]);
+    }
+    EXPECT_LT(tau[1][0], tau[0][0]);
+}
+
 // Same seed, one thread or two: the same image.
 TEST(VplSamplers, DeterministicAtAnyThreadCount) {
-    for (const char* sampler : {"power", "bidirectional"}) {
+    for (const char* sampler : {"power", "bidirectional", "metropolis"}) {
         RenderOptions opt = vpl_options(sampler, 5, 64, 1);
         opt.threads = 1;
         Image a = render_text(test::furnace_scene(0.5f, 1.f, 8), opt).image;

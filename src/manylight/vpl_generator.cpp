@@ -96,98 +96,6 @@ void deposit_impl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& bet
     chunk.lights.push_back(pl);
 }
 
-class VplTracer {
-public:
-    VplTracer(const Scene& scene, const VplOptions& options)
-        : m_scene(scene), m_options(options), m_light_sampler("power", scene.lights()) {
-        if (!options.light_pmf.empty()) m_light_pmf = Distribution1D(options.light_pmf);
-    }
-
-    void trace_chunk(size_t chunk_index, VplChunk& chunk) const {
-        auto sampler = create_sampler("independent", 1, m_options.seed);
-        ScratchBuffer scratch;
-        size_t first = chunk_index * kChunkPaths;
-        chunk.path_end.reserve(kChunkPaths);
-        for (size_t k = first; k < first + kChunkPaths; ++k) {
-            sampler->start_pixel_sample({int(k & 0xfffff), int(k >> 20)}, 0);
-            chunk.path_light.push_back(trace_path(*sampler, scratch, chunk));
-            scratch.reset();
-            chunk.path_end.push_back(uint32_t(chunk.lights.size()));
-        }
-    }
-
-private:
-    // The path's VPLs into chunk; returns the index of the light it started from (-1: none).
-    int trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk) const {
-        // Step 1: a light by power (or by options.light_pmf), a ray leaving it; beta is the flux
-        // the path carries.
-        float u_light = sampler.get_1d();
-        Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
-        const Light* light = nullptr;
-        float pmf = 0;
-        if (m_light_pmf.size() > 0) {
-            size_t i = m_light_pmf.sample_discrete(u_light, &pmf);
-            light = m_scene.lights()[i].get();
-        } else if (auto sl = m_light_sampler.sample(u_light)) {
-            light = sl->light;
-            pmf = sl->pmf;
-        }
-        if (!light || pmf == 0) return -1;
-        auto le = light->sample_le(u_pos, u_dir);
-        if (!le || le->L.is_black() || le->pdf_pos == 0 || le->pdf_dir == 0) return light->index;
-        bool on_surface = length_squared(le->n_light) > 0;
-        float cos_l = on_surface ? abs_dot(le->n_light, le->ray.d) : 1.f;
-        RGB beta = le->L * (cos_l / (pmf * le->pdf_pos * le->pdf_dir));
-        float beta0 = beta.max_component();
-        if (!(beta0 > 0) || !beta.is_finite()) return light->index;
-
-        // Step 2: follow it, leaving a VPL at every surface that is not delta (nor, when
-        // skipping glossy surfaces, glossy), and carrying on by importance-mode BSDF sampling.
-        // Off the emitter's surface (sample_le leaves the origin on it), as spawn_ray does.
-        Ray ray = le->ray;
-        ray.o = offset_ray_origin(ray.o, surface_offset(le->n_light, le->p_error), ray.d);
-        SurfaceInteraction si;
-        int deposited = 0;
-        bool after_specular = false;                     // the last bounce was a delta lobe
-        int max_bounces = 4 * m_options.max_depth + 16;  // delta and skipped surfaces included
-        for (int bounce = 0; bounce < max_bounces; ++bounce) {
-            if (!m_scene.intersect(ray, &si)) break;
-            // Not hit_bsdf: deposit() builds the BSDF again from si, which must keep its unbumped
-            // normal; cosines use the BSDF's own normal instead.
-            Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
-            if (!bsdf) break;
-            uint8_t flags = bsdf.flags();
-            bool glossy = flags & kBxdfGlossy;
-            if (bsdf.has_nonspecular() && (m_options.glossy != GlossyVpls::Skip || !glossy)) {
-                if (after_specular || !m_options.after_specular_only)
-                    deposit_vpl(si, bsdf, beta, m_options.glossy, chunk);
-                if (++deposited >= m_options.max_depth) break;
-            }
-            float uc = sampler.get_1d();
-            Vec2 u = sampler.get_2d();
-            float u_rr = sampler.get_1d();
-            auto bs = bsdf.sample(si.wo, uc, u, TransportMode::Importance);
-            if (!bs) break;
-            after_specular = bs->is_specular();
-            beta *= bs->f * (abs_dot(bs->wi, bsdf.frame().n) / bs->pdf_solid_angle);
-            ray = spawn_ray(si, bs->wi);
-            // Russian roulette after the second bounce, on the throughput relative to the start.
-            if (bounce >= 1) {
-                float q = std::max(0.f, 1.f - beta.max_component() / beta0);
-                if (u_rr < q) break;
-                beta = beta / (1.f - q);
-            }
-            if (beta.is_black() || !beta.is_finite()) break;
-        }
-        return light->index;
-    }
-
-    const Scene& m_scene;
-    const VplOptions& m_options;
-    LightSampler m_light_sampler;
-    Distribution1D m_light_pmf;
-};
-
 // Spherical Fibonacci point i of n (unit vector).
 Vec3 fibonacci_direction(int i, int n) {
     constexpr float kGolden = 0.6180339887f;
@@ -198,6 +106,89 @@ Vec3 fibonacci_direction(int i, int n) {
 }
 
 }  // namespace
+
+VplTracer::VplTracer(const Scene& scene, const VplOptions& options)
+    : m_scene(scene), m_options(options), m_light_sampler("power", scene.lights()) {
+    if (!options.light_pmf.empty()) m_light_pmf = Distribution1D(options.light_pmf);
+}
+
+void VplTracer::trace_chunk(size_t chunk_index, size_t chunk_paths, VplChunk& chunk) const {
+    auto sampler = create_sampler("independent", 1, m_options.seed);
+    ScratchBuffer scratch;
+    size_t first = chunk_index * chunk_paths;
+    chunk.path_end.reserve(chunk_paths);
+    for (size_t k = first; k < first + chunk_paths; ++k) {
+        sampler->start_pixel_sample({int(k & 0xfffff), int(k >> 20)}, 0);
+        chunk.path_light.push_back(trace_path(*sampler, scratch, chunk));
+        scratch.reset();
+        chunk.path_end.push_back(uint32_t(chunk.lights.size()));
+    }
+}
+
+// The path's VPLs into chunk; returns the index of the light it started from (-1: none).
+int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk) const {
+    // Step 1: a light by power (or by options.light_pmf), a ray leaving it; beta is the flux
+    // the path carries.
+    float u_light = sampler.get_1d();
+    Vec2 u_pos = sampler.get_2d(), u_dir = sampler.get_2d();
+    const Light* light = nullptr;
+    float pmf = 0;
+    if (m_light_pmf.size() > 0) {
+        size_t i = m_light_pmf.sample_discrete(u_light, &pmf);
+        light = m_scene.lights()[i].get();
+    } else if (auto sl = m_light_sampler.sample(u_light)) {
+        light = sl->light;
+        pmf = sl->pmf;
+    }
+    if (!light || pmf == 0) return -1;
+    auto le = light->sample_le(u_pos, u_dir);
+    if (!le || le->L.is_black() || le->pdf_pos == 0 || le->pdf_dir == 0) return light->index;
+    bool on_surface = length_squared(le->n_light) > 0;
+    float cos_l = on_surface ? abs_dot(le->n_light, le->ray.d) : 1.f;
+    RGB beta = le->L * (cos_l / (pmf * le->pdf_pos * le->pdf_dir));
+    float beta0 = beta.max_component();
+    if (!(beta0 > 0) || !beta.is_finite()) return light->index;
+
+    // Step 2: follow it, leaving a VPL at every surface that is not delta (nor, when
+    // skipping glossy surfaces, glossy), and carrying on by importance-mode BSDF sampling.
+    // Off the emitter's surface (sample_le leaves the origin on it), as spawn_ray does.
+    Ray ray = le->ray;
+    ray.o = offset_ray_origin(ray.o, surface_offset(le->n_light, le->p_error), ray.d);
+    SurfaceInteraction si;
+    int deposited = 0;
+    bool after_specular = false;                     // the last bounce was a delta lobe
+    int max_bounces = 4 * m_options.max_depth + 16;  // delta and skipped surfaces included
+    for (int bounce = 0; bounce < max_bounces; ++bounce) {
+        if (!m_scene.intersect(ray, &si)) break;
+        // Not hit_bsdf: deposit() builds the BSDF again from si, which must keep its unbumped
+        // normal; cosines use the BSDF's own normal instead.
+        Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
+        if (!bsdf) break;
+        uint8_t flags = bsdf.flags();
+        bool glossy = flags & kBxdfGlossy;
+        if (bsdf.has_nonspecular() && (m_options.glossy != GlossyVpls::Skip || !glossy)) {
+            if (after_specular || !m_options.after_specular_only)
+                deposit_vpl(si, bsdf, beta, m_options.glossy, chunk);
+            if (++deposited >= m_options.max_depth) break;
+        }
+        float uc = sampler.get_1d();
+        Vec2 u = sampler.get_2d();
+        float u_rr = sampler.get_1d();
+        auto bs = bsdf.sample(si.wo, uc, u, TransportMode::Importance);
+        if (!bs) break;
+        after_specular = bs->is_specular();
+        beta *= bs->f * (abs_dot(bs->wi, bsdf.frame().n) / bs->pdf_solid_angle);
+        ray = spawn_ray(si, bs->wi);
+        // Russian roulette after the second bounce, on the throughput relative to the start.
+        if (bounce >= 1) {
+            float q = std::max(0.f, 1.f - beta.max_component() / beta0);
+            if (u_rr < q) break;
+            beta = beta / (1.f - q);
+        }
+        if (beta.is_black() || !beta.is_finite()) break;
+    }
+    return light->index;
+}
 
 void deposit_vpl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta, GlossyVpls glossy,
                  VplChunk& chunk) {
@@ -289,7 +280,7 @@ void generate_vpls(const Scene& scene, const VplOptions& options, PointLightSet&
     VplTracer tracer(scene, options);
     auto trace = [&](std::vector<VplChunk>& chunks, size_t begin, size_t end) {
         parallel_for_chunks(begin, end, size_t(1), [&](size_t b, size_t e) {
-            for (size_t c = b; c != e; ++c) tracer.trace_chunk(c, chunks[c]);
+            for (size_t c = b; c != e; ++c) tracer.trace_chunk(c, kChunkPaths, chunks[c]);
         });
     };
     std::vector<VplChunk> chunks;

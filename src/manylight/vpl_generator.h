@@ -6,7 +6,10 @@
 #include <vector>
 
 #include "geometry/interaction.h"
+#include "lights/light_sampler.h"
 #include "lights/point_lights.h"
+#include "sampling/distributions.h"
+#include "sampling/sampler.h"
 
 namespace ml {
 
@@ -56,6 +59,24 @@ struct VplChunk {
     std::vector<uint32_t> path_end;    // lights.size() after each path
     std::vector<int> path_light;       // the light each path started from
     std::unique_ptr<ScratchBuffer> arena;
+};
+
+// Light paths of standard instant radiosity, one at a time.
+class VplTracer {
+public:
+    VplTracer(const Scene& scene, const VplOptions& options);
+    // Paths chunk_index * chunk_paths onwards, path k from pixel (k mod 2^20, k / 2^20) of an
+    // independent sampler of options.seed.
+    void trace_chunk(size_t chunk_index, size_t chunk_paths, VplChunk& chunk) const;
+    // One path's VPLs into chunk, its numbers from `sampler`; returns the index of the light it
+    // started from (-1: none).
+    int trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk) const;
+
+private:
+    const Scene& m_scene;
+    VplOptions m_options;
+    LightSampler m_light_sampler;
+    Distribution1D m_light_pmf;
 };
 
 // A VPL at si for flux `beta` arriving from si.wo on a surface with BSDF `bsdf` (made from si),

@@ -43,7 +43,7 @@ void sample_vpls(const Scene& scene, const PerspectiveCamera* camera, const VplO
         case VplSamplerKind::Bidirectional:
             return sample_bidirectional_vpls(scene, *camera, options, set);
         default:
-            throw UsageError("vpl.sampler=metropolis is not implemented yet");
+            return sample_metropolis_vpls(scene, *camera, options, set);
     }
 }
 

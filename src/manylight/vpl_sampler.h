@@ -39,6 +39,18 @@ std::vector<float> power_light_pmf(const Scene& scene, const PerspectiveCamera& 
 void sample_bidirectional_vpls(const Scene& scene, const PerspectiveCamera& camera,
                                const VplOptions& options, PointLightSet& set);
 
+// metropolis: the chain's record, for tests and measurements: per step, the current state's VPL
+// position and f; P_c, the power the kept geometric VPLs were given (sum of P_i), their count.
+struct MirTrace {
+    std::vector<Vec3> positions;
+    std::vector<float> contributions;
+    double Pc = 0, kept_power = 0;
+    size_t geometric = 0, steps = 0;
+};
+void sample_metropolis_vpls(const Scene& scene, const PerspectiveCamera& camera,
+                            const VplOptions& options, PointLightSet& set,
+                            MirTrace* trace = nullptr);
+
 // Points the camera sees (the first non-delta hit of camera rays through uniform random film
 // positions, along delta chains as the gatherers follow them), for the pilot passes. Their BSDFs
 // live in `arena`.
