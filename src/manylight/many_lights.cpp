@@ -4,6 +4,8 @@
 
 #include <chrono>
 
+#include "manylight/vpl_sampler.h"
+
 namespace ml {
 
 namespace {
@@ -19,6 +21,22 @@ constexpr const char* kDefaultDirect = "sample";
 constexpr float kDefaultClamp = 0.2f;
 
 }  // namespace
+
+void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
+    o->kind = parse_vpl_sampler(s.get_string("vpl.sampler", vpl_sampler_name(o->kind)));
+    // Each sampler reads only its own settings, so that another's is reported as unused.
+    if (o->kind == VplSamplerKind::Power || o->kind == VplSamplerKind::Bidirectional)
+        o->pilot = s.get_int("vpl.pilot", o->pilot);
+    if (o->kind == VplSamplerKind::Power)
+        o->pilot_paths = s.get_int("vpl.pilot_paths", o->pilot_paths);
+    if (o->kind == VplSamplerKind::Bidirectional)
+        o->candidates = s.get_int("vpl.candidates", o->candidates);
+    if (o->kind == VplSamplerKind::Metropolis)
+        o->tries = s.get_int("vpl.metropolis.tries", o->tries);
+    if (o->pilot < 1 || o->pilot_paths < 1 || o->candidates < 1 || o->tries < 1)
+        throw UsageError(
+            "vpl.pilot, vpl.pilot_paths, vpl.candidates and vpl.metropolis.tries must be >= 1");
+}
 
 ManyLightSettings ManyLightSettings::read(const Settings& s) {
     ManyLightSettings m;
@@ -37,6 +55,7 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     else
         throw UsageError("vpl.glossy must be bsdf, diffuse or skip, not " + glossy);
     m.lights.vpls = m.lights.vpl_count > 0;
+    read_vpl_sampler(s, &m.lights.vpl_sampler);
     m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count);
     m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
     int seed = s.get_int("vpl.seed", -1);  // -1: follow --seed

@@ -39,6 +39,9 @@ struct ManyLightSettings {
     }
 };
 
+// vpl.sampler and the settings of the sampler it names (manylight/vpl_sampler.h).
+void read_vpl_sampler(const Settings& s, VplSamplerOptions* options);
+
 // What `vpl`, `lightcuts` and `mdlightcuts` shade with: the point-light set and, with
 // lights.direct=sample, the sampled direct light.
 void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,

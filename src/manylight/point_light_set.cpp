@@ -5,7 +5,7 @@
 
 #include "core/rng.h"
 #include "lights/light.h"
-#include "manylight/vpl_generator.h"
+#include "manylight/vpl_sampler.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
 
@@ -62,7 +62,8 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
         vo.max_depth = options.vpl_max_depth;
         vo.glossy = options.vpl_glossy;
         vo.seed = stream_seed(options.seed);
-        generate_vpls(scene, vo, set);
+        vo.sampler = options.vpl_sampler;
+        sample_vpls(scene, options.camera, vo, set);
     }
     for (const PointLight& pl : set.lights) {
         switch (pl.kind) {

@@ -6,11 +6,13 @@
 
 #include "core/math.h"
 #include "lights/point_lights.h"
+#include "manylight/vpl_generator.h"
 #include "sampling/warps.h"  // shifted_hammersley, which lived here
 
 namespace ml {
 
 class Scene;
+class PerspectiveCamera;
 
 struct PointLightOptions {
     int area_count = 1024;  // oriented lights shared over the area lights in proportion to power
@@ -23,6 +25,9 @@ struct PointLightOptions {
     bool sampled_direct = false;
     bool vpls = true;  // include VPLs
     uint64_t seed = 0;
+    VplSamplerOptions vpl_sampler;  // vpl.sampler and its settings (manylight/vpl_sampler.h)
+    // The render's camera, which every sampler but `standard` needs (set before building).
+    const PerspectiveCamera* camera = nullptr;
 };
 
 // Emitters' point lights first (in scene light order), then the VPLs (in light-path order).

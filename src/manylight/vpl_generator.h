@@ -2,18 +2,45 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <vector>
 
+#include "geometry/interaction.h"
+#include "lights/light_sampler.h"
 #include "lights/point_lights.h"
+#include "sampling/distributions.h"
+#include "sampling/sampler.h"
 
 namespace ml {
 
 class Scene;
+
+// Which VPL sampler (manylight/vpl_sampler.h) makes the set, and its settings.
+enum class VplSamplerKind : uint8_t { Standard, Power, Bidirectional, Metropolis };
+
+struct VplSamplerOptions {
+    VplSamplerKind kind = VplSamplerKind::Standard;
+    int pilot = 256;         // power, bidirectional: camera points of the pilot pass
+    int pilot_paths = 1024;  // power: light paths of the pilot pass
+    int candidates = 4;      // bidirectional: candidates per VPL kept by resampling
+    int tries = 1;           // metropolis: proposals per step (1: plain Metropolis-Hastings)
+};
 
 struct VplOptions {
     int count = 10000;  // target: paths are traced until at least this many VPLs exist
     int max_depth = 5;  // most VPLs along one light path
     GlossyVpls glossy = GlossyVpls::Bsdf;  // VPLs on glossy surfaces (point_light.h)
     uint64_t seed = 0;
+    VplSamplerOptions sampler;
+    // The samplers' variations of standard instant radiosity:
+    // > 0: trace exactly this many paths (count is then ignored).
+    size_t paths = 0;
+    // Not empty: the probability of starting a path at each light (scene light order) instead
+    // of the lights' power (power sampling); every light that emits must have a positive one.
+    std::vector<float> light_pmf;
+    // Deposit only where the path arrives from a specular bounce (bidirectional sampling makes
+    // the other VPLs from the camera).
+    bool after_specular_only = false;
 };
 
 // Appends VPLs to set.lights (their surfaces to set.surfaces, the surfaces' Bxdfs to set.arenas)
@@ -21,7 +48,43 @@ struct VplOptions {
 // divided by the number of paths traced, so the VPLs' emission estimates the indirect light
 // without bias. Deterministic for a seed: path k draws its numbers from pixel (k mod 2^20,
 // k / 2^20) of an independent sampler, and paths are kept in order whatever the thread count.
-void generate_vpls(const Scene& scene, const VplOptions& options, PointLightSet& set);
+// With `vpl_lights`, the index of the light each VPL's path started from (one per VPL added).
+void generate_vpls(const Scene& scene, const VplOptions& options, PointLightSet& set,
+                   std::vector<int>* vpl_lights = nullptr);
+
+// The VPLs of some light paths (or other samples), fluxes not yet divided by the sample count.
+struct VplChunk {
+    std::vector<PointLight> lights;
+    std::vector<VplSurface> surfaces;  // PointLight::surface indexes these (chunk-local)
+    std::vector<uint32_t> path_end;    // lights.size() after each path
+    std::vector<int> path_light;       // the light each path started from
+    std::unique_ptr<ScratchBuffer> arena;
+};
+
+// Light paths of standard instant radiosity, one at a time.
+class VplTracer {
+public:
+    VplTracer(const Scene& scene, const VplOptions& options);
+    // Paths chunk_index * chunk_paths onwards, path k from pixel (k mod 2^20, k / 2^20) of an
+    // independent sampler of options.seed.
+    void trace_chunk(size_t chunk_index, size_t chunk_paths, VplChunk& chunk) const;
+    // One path's VPLs into chunk, its numbers from `sampler`; returns the index of the light it
+    // started from (-1: none).
+    int trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk) const;
+
+private:
+    const Scene& m_scene;
+    VplOptions m_options;
+    LightSampler m_light_sampler;
+    Distribution1D m_light_pmf;
+};
+
+// A VPL at si for flux `beta` arriving from si.wo on a surface with BSDF `bsdf` (made from si),
+// appended to chunk (nothing for a surface whose VPL would give no light).
+void deposit_vpl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta, GlossyVpls glossy,
+                 VplChunk& chunk);
+// Appends the first `count` VPLs of `chunks` (in order) to set, fluxes times `scale`.
+void append_vpls(std::vector<VplChunk>& chunks, size_t count, float scale, PointLightSet& set);
 
 // An estimate of the largest BSDF value max_w f(w, wi) (times |cos(w, n)| when `with_cos`) over
 // every direction w, by evaluation at probe directions and a safety margin; used as the bound

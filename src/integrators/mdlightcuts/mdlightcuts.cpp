@@ -55,6 +55,7 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
+    m_settings.lights.camera = &ctx.camera;
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);

@@ -13,6 +13,7 @@ void VplIntegrator::prepare(const Scene& scene) {
 
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
+    m_settings.lights.camera = &ctx.camera;
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;

@@ -1,0 +1,327 @@
+// The VPL samplers (manylight/vpl_sampler.h): one interface, `standard` unchanged behind it, and
+// `power` and `bidirectional` consistent with `standard` and with the analytic furnace, within
+// tolerances from the spread over seeds (a VPL render's pixels share their VPLs, so the pixels'
+// own noise understates it), deterministic at any thread count.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "camera/camera.h"
+#include "core/error.h"
+#include "integrators/render_job.h"
+#include "manylight/point_light_set.h"
+#include "manylight/vpl_sampler.h"
+#include "render_helpers.h"
+#include "scene/scene.h"
+#include "scene/scene_desc.h"
+#include "shared_files.h"
+#include "vpl_test_scenes.h"
+
+namespace ml {
+namespace {
+
+using test::render_text;
+
+RenderOptions vpl_options(const std::string& sampler, uint64_t seed, int count, int spp = 1) {
+    RenderOptions opt;
+    opt.integrator = "vpl";
+    opt.spp = spp;
+    opt.seed = seed;
+    opt.set["vpl.sampler"] = sampler;
+    opt.set["vpl.count"] = std::to_string(count);
+    opt.set["vpl.clamp"] = "0";  // clamping is a bias every sampler shares differently
+    return opt;
+}
+
+// Per seed, the image's mean of each channel.
+using SeedMeans = std::vector<std::array<double, 3>>;
+
+template <typename Render>
+SeedMeans over_seeds(int seeds, Render&& render) {
+    SeedMeans m;
+    for (int s = 0; s < seeds; ++s) {
+        Image img = render(uint64_t(s + 1));
+        std::array<double, 3> v{};
+        for (const RGB& p : img.pixels)
+            for (int c = 0; c < 3; ++c) v[size_t(c)] += p[c];
+        for (double& x : v) x /= double(img.pixels.size());
+        m.push_back(v);
+    }
+    return m;
+}
+
+// Mean and standard error over the seeds of channel c of a (minus b's when given: the renders
+// of one seed share their camera samples, so the difference is the VPLs' alone).
+std::pair<double, double> seed_mean(const SeedMeans& a, int c, const SeedMeans* b = nullptr) {
+    double s = 0, s2 = 0, n = double(a.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+        double x = a[i][size_t(c)] - (b ? (*b)[i][size_t(c)] : 0.0);
+        s += x, s2 += x * x;
+    }
+    double mean = s / n;
+    return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / (n - 1))};
+}
+
+// Paired: the mean difference within 4.5 standard errors of zero, and a tolerance that can
+// fail (it must detect a bias of `detect` times the image mean).
+void expect_same_mean(const SeedMeans& a, const SeedMeans& b, const std::string& what,
+                      double detect = 0.08) {
+    for (int c = 0; c < 3; ++c) {
+        auto [d, se] = seed_mean(a, c, &b);
+        double ref = seed_mean(b, c).first;
+        EXPECT_NEAR(d, 0.0, 4.5 * se) << what << " channel " << c << ", mean " << ref;
+        EXPECT_LT(4.5 * se, detect * ref) << what << " channel " << c << ": too noisy to tell";
+    }
+}
+
+TEST(VplSamplers, NamesAndSettings) {
+    EXPECT_EQ(parse_vpl_sampler("standard"), VplSamplerKind::Standard);
+    EXPECT_EQ(parse_vpl_sampler("power"), VplSamplerKind::Power);
+    EXPECT_EQ(parse_vpl_sampler("bidirectional"), VplSamplerKind::Bidirectional);
+    EXPECT_EQ(parse_vpl_sampler("metropolis"), VplSamplerKind::Metropolis);
+    EXPECT_THROW(parse_vpl_sampler("keller"), UsageError);
+    std::string box = test::furnace_scene(0.5f, 1.f, 4);
+    // A setting of a sampler that is not the one chosen is unused: an error.
+    RenderOptions opt = vpl_options("power", 1, 16);
+    opt.set["vpl.candidates"] = "2";
+    EXPECT_THROW(render_text(box, opt), UsageError);
+    opt = vpl_options("bidirectional", 1, 16);
+    opt.set["vpl.candidates"] = "0";
+    EXPECT_THROW(render_text(box, opt), UsageError);
+}
+
+// Behind the interface, `standard` is generate_vpls itself: the same lights, bit for bit.
+TEST(VplSamplers, StandardIsGenerateVpls) {
+    auto scene = vpl_test::make_scene(vpl_test::mixed_box());
+    VplOptions o;
+    o.count = 300;
+    o.max_depth = 3;
+    o.seed = 7;
+    PointLightSet a, b;
+    generate_vpls(*scene, o, a);
+    sample_vpls(*scene, nullptr, o, b);
+    ASSERT_EQ(a.lights.size(), b.lights.size());
+    ASSERT_GE(a.lights.size(), 300u);
+    for (size_t i = 0; i < a.lights.size(); ++i) {
+        EXPECT_EQ(a.lights[i].p, b.lights[i].p);
+        EXPECT_EQ(a.lights[i].intensity, b.lights[i].intensity);
+    }
+    EXPECT_EQ(a.light_paths, b.light_paths);
+    // The other samplers need the camera.
+    o.sampler.kind = VplSamplerKind::Bidirectional;
+    EXPECT_THROW(sample_vpls(*scene, nullptr, o, b), UsageError);
+}
+
+// The furnace: every sampler's image mean is the geometric series (render_helpers.h).
+TEST(VplSamplers, FurnaceEverySampler) {
+    const int depth = 3;
+    double expected = (1 - std::pow(0.5, depth + 1)) / (1 - 0.5);
+    for (const char* sampler : {"standard", "power", "bidirectional", "metropolis"}) {
+        SeedMeans st = over_seeds(6, [&](uint64_t seed) {
+            RenderOptions opt = vpl_options(sampler, seed, 64, 2);
+            opt.max_depth = depth;
+            return render_text(test::furnace_scene(0.5f, 1.f, 8), opt).image;
+        });
+        for (int c = 0; c < 3; ++c) {
+            auto [mean, se] = seed_mean(st, c);
+            EXPECT_NEAR(mean, expected, 4.5 * se + 3e-3 * expected) << sampler << " channel " << c;
+        }
+    }
+}
+
+// Two lights over a floor before a wall, the camera at z = -5 looking at +z; light B is a sphere
+// at x = `b_x`, inside a closed sphere when `enclosed` (nothing it lights can be seen then).
+std::string two_lights(float b_x, bool enclosed) {
+    std::string world = fmt::format(fmt::runtime(vpl_test::kQuadLight), "") + R"(
+AttributeBegin
+  Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+  Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
+    "point3 P" [ -3 -1 -3  -3 -1 3  3 -1 3  3 -1 -3 ]
+  Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
+    "point3 P" [ -3 -1 2  3 -1 2  3 3 2  -3 3 2 ]
+AttributeEnd
+)" +
+                        fmt::format(R"(
+AttributeBegin
+  Translate {0} 0 0
+  AreaLightSource "diffuse" "rgb L" [ 3 2 1 ]
+  Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+  Shape "sphere" "float radius" [ 0.25 ]
+AttributeEnd
+)",
+                                    b_x);
+    if (enclosed)
+        world += fmt::format(R"(
+AttributeBegin
+  Translate {0} 0 0
+  Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+  Shape "sphere" "float radius" [ 1 ]
+AttributeEnd
+)",
+                             b_x);
+    return "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 45 ]\n"
+           "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
+           "WorldBegin\n" +
+           world;
+}
+
+// Two lights, the camera sees the room of one: the pilot gives the other only its defensive
+// share (10% of its power share), so its paths become rare.
+TEST(VplSamplers, PowerPilotFindsTheVisibleLight) {
+    // Light B (x = 20) is enclosed.
+    SceneDesc desc = parse_scene_string(two_lights(20, true), ".");
+    Scene scene(std::move(desc));
+    bool ok = false;
+    Transform to_world = Transform::look_at({0, 0, -5}, {0, 0, 0}, {0, 1, 0}, &ok).inverse();
+    PerspectiveCamera camera(ParameterList(), to_world, 8, 8);
+    ASSERT_EQ(scene.lights().size(), 2u);
+    VplOptions o;
+    o.count = 256;
+    o.max_depth = 2;
+    o.seed = 3;
+    std::vector<float> pmf = power_light_pmf(scene, camera, o);
+    ASSERT_EQ(pmf.size(), 2u);
+    double power_a = scene.lights()[0]->power().luminance(),
+           power_b = scene.lights()[1]->power().luminance();
+    EXPECT_NEAR(pmf[1], 0.1 * power_b / (power_a + power_b), 1e-3);
+    EXPECT_NEAR(pmf[0] + pmf[1], 1.0, 1e-5);
+}
+
+// The Cornell box (shared) at 16x16: power and bidirectional agree with standard, per channel,
+// over the image and over its quarters.
+TEST(VplSamplers, CornellBoxAgreesWithStandard) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    std::string path = test::shared_path("scenes/cornell-box/scene-v4.pbrt");
+    auto render = [&](const char* sampler) {
+        return over_seeds(12, [&](uint64_t seed) {
+            RenderOptions opt = vpl_options(sampler, seed, 1024, 1);
+            opt.width = opt.height = 8;
+            return render_scene(parse_scene_file(path), opt).image;
+        });
+    };
+    // (One light: power sampling is standard's; the two-light test below is its own.)
+    SeedMeans standard = render("standard");
+    expect_same_mean(render("bidirectional"), standard, "bidirectional");
+    // MIR is consistent, not unbiased, and one chain's VPLs are correlated: a looser test.
+    expect_same_mean(render("metropolis"), standard, "metropolis", 0.2);
+}
+
+// Both lights seen (B at x = 1.5, in the room): power sampling starts paths at them in
+// other proportions than standard, and the images agree.
+TEST(VplSamplers, PowerAgreesWithStandardOnTwoLights) {
+    auto render = [&](const char* sampler) {
+        return over_seeds(10, [&](uint64_t seed) {
+            RenderOptions opt = vpl_options(sampler, seed, 512, 1);
+            opt.set["vpl.pilot_paths"] = "256";
+            if (std::string(sampler) == "standard") opt.set.erase("vpl.pilot_paths");
+            return render_text(two_lights(1.5f, false), opt).image;
+        });
+    };
+    expect_same_mean(render("power"), render("standard"), "power");
+}
+
+// MIR's normalisation on its own: the geometric VPLs' multiplicities add up to the chain's
+// steps, the power they were given adds up to P_c (all kept: the furnace's pilot sees every
+// VPL), and P_c, the chain's bootstrap estimate, agrees with an independent estimate of the
+// same integral: the image mean of standard VPLs' indirect light in the furnace,
+// Le (a + a^2 + ... ) up to the VPLs' depth, minus what the sampled direct light gives.
+TEST(VplSamplers, MetropolisNormalisation) {
+    const int depth = 3;
+    SceneDesc desc = parse_scene_string(test::furnace_scene(0.5f, 1.f, 8), ".");
+    Scene scene(std::move(desc));
+    bool ok = false;
+    Transform to_world = Transform::look_at({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, &ok).inverse();
+    PerspectiveCamera camera(ParameterList(), to_world, 8, 8);
+    VplOptions o;
+    o.count = 512;
+    o.max_depth = depth - 1;  // as vpl.max_depth = maxdepth - 1
+    o.seed = 11;
+    o.sampler.kind = VplSamplerKind::Metropolis;
+    o.sampler.tries = 2;
+    PointLightSet set;
+    MirTrace trace;
+    sample_metropolis_vpls(scene, camera, o, set, &trace);
+    EXPECT_EQ(trace.steps, 512u);
+    EXPECT_EQ(trace.positions.size(), 512u);
+    EXPECT_GT(trace.geometric, 20u);
+    EXPECT_LE(trace.geometric, 512u);
+    EXPECT_NEAR(trace.kept_power, trace.Pc, 1e-6 * trace.Pc);
+    // In the furnace a VPL at bounce b gives radiance Le a^(b+1) in total (b = 1..depth-1): the
+    // luminance of a + ... with Le = 1, a = 0.5: 0.25 + 0.125 for depth 3.
+    double expected = 0;
+    for (int b = 1; b <= depth - 1; ++b) expected += std::pow(0.5, b + 1);
+    EXPECT_NEAR(trace.Pc, expected, 0.05 * expected);
+}
+
+// MTMH decorrelates: the integrated autocorrelation time of the VPL position (x) and of f falls
+// from plain MH (1 try) to 4 tries, on the Cornell box.
+double integrated_autocorrelation(const std::vector<double>& v) {
+    size_t n = v.size();
+    double mean = 0, var = 0;
+    for (double x : v) mean += x;
+    mean /= double(n);
+    for (double x : v) var += (x - mean) * (x - mean);
+    var /= double(n);
+    if (!(var > 0)) return 1;
+    double tau = 1;
+    for (size_t lag = 1; lag < n / 4; ++lag) {
+        double c = 0;
+        for (size_t i = 0; i + lag < n; ++i) c += (v[i] - mean) * (v[i + lag] - mean);
+        c /= double(n - lag) * var;
+        if (c <= 0.05) break;  // the initial positive sequence, cut where it fades
+        tau += 2 * c;
+    }
+    return tau;
+}
+
+TEST(VplSamplers, MultipleTryDecorrelates) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    SceneDesc desc = parse_scene_file(test::shared_path("scenes/cornell-box/scene-v4.pbrt"));
+    Transform to_world = desc.world_to_camera.inverse();
+    Scene scene(std::move(desc));
+    PerspectiveCamera camera(ParameterList(), to_world, 16, 16);
+    double tau[2][2];
+    int tries[2] = {1, 4};
+    for (int t = 0; t < 2; ++t) {
+        VplOptions o;
+        o.count = 2048;
+        o.max_depth = 3;
+        o.seed = 5;
+        o.sampler.kind = VplSamplerKind::Metropolis;
+        o.sampler.tries = tries[t];
+        o.sampler.pilot = 16;
+        PointLightSet set;
+        MirTrace trace;
+        sample_metropolis_vpls(scene, camera, o, set, &trace);
+        std::vector<double> px, f;
+        for (size_t i = 0; i < trace.positions.size(); ++i) {
+            px.push_back(trace.positions[i].x);
+            f.push_back(trace.contributions[i]);
+        }
+        tau[t][0] = integrated_autocorrelation(px);
+        tau[t][1] = integrated_autocorrelation(f);
+        std::printf("MIR tries %d: integrated autocorrelation time: position %.2f, f %.2f\n",
+                    tries[t], tau[t][0], tau[t][1]);
+    }
+    EXPECT_LT(tau[1][0], tau[0][0]);
+}
+
+// Same seed, one thread or two: the same image.
+TEST(VplSamplers, DeterministicAtAnyThreadCount) {
+    for (const char* sampler : {"power", "bidirectional", "metropolis"}) {
+        RenderOptions opt = vpl_options(sampler, 5, 64, 1);
+        opt.threads = 1;
+        Image a = render_text(test::furnace_scene(0.5f, 1.f, 8), opt).image;
+        opt.threads = 2;
+        Image b = render_text(test::furnace_scene(0.5f, 1.f, 8), opt).image;
+        ASSERT_EQ(a.pixels.size(), b.pixels.size());
+        for (size_t i = 0; i < a.pixels.size(); ++i) EXPECT_EQ(a.pixels[i], b.pixels[i]) << sampler;
+    }
+}
+
+}  // namespace
+}  // namespace ml
