@@ -193,7 +193,10 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
         o.integrator = "igi";
         o.set = {{"igi.vpls", std::to_string(s.vpls)},
                  {"igi.interleave", s.interleave},
-                 {"igi.filter", std::to_string(s.filter)}};
+                 {"igi.filter", std::to_string(s.filter)},
+                 // One light and one BSDF sample of the sampled direct light per pixel (not
+                 // four): the moving frames' budget goes to the VPLs.
+                 {"lights.direct_samples", "1"}};
     } else {
         o.integrator = s.integrator;
         o.set = m_config.set;

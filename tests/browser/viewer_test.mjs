@@ -58,8 +58,16 @@ const check = (ok, what) => {
 };
 
 // The server, on any free port, with a small target so that it converges quickly.
-const server = spawn(binary, ['view', scene, '--port', '0', '--resolution', '160x120', '--spp', '4',
-  '--threads', '2', '--output-dir', outDir, '--exit-after', '170'], { stdio: ['ignore', 'pipe', 'pipe'] });
+// VIEW_RESOLUTION, VIEW_SPP, VIEW_INTEGRATOR and VIEW_SET change the view (for screenshots of
+// the shared scenes: bench/RESULTS.md, "Issue 16").
+const resolution = process.env.VIEW_RESOLUTION || '160x120';
+const [viewW, viewH] = resolution.split('x').map(Number);
+const extra = [];
+if (process.env.VIEW_INTEGRATOR) extra.push('--integrator', process.env.VIEW_INTEGRATOR);
+if (process.env.VIEW_SET) extra.push('--set', process.env.VIEW_SET);
+const server = spawn(binary, ['view', scene, '--port', '0', '--resolution', resolution,
+  '--spp', process.env.VIEW_SPP || '4', ...extra,
+  '--threads', '2', '--output-dir', outDir, '--exit-after', process.env.VIEW_EXIT_AFTER || '170'], { stdio: ['ignore', 'pipe', 'pipe'] });
 let serverOut = '';
 server.stdout.on('data', (d) => { serverOut += d; });
 server.stderr.on('data', (d) => { process.stderr.write(d); });
@@ -83,7 +91,7 @@ const browser = await puppeteer.launch({
 });
 try {
   const page = await browser.newPage();
-  await page.setViewport({ width: 900, height: 620 });
+  await page.setViewport({ width: Math.max(900, viewW + 420), height: Math.max(560, viewH + 80) });
   const pageErrors = [];
   page.on('pageerror', (e) => pageErrors.push(String(e)));
   await page.goto(url);
@@ -101,7 +109,8 @@ try {
   step('waiting for the first frame');
   await waitFor(() => Number(document.body.dataset.frames || 0) >= 1, null, 30000, 'a first frame');
   const before = await canvasDigest();
-  check(before.width === 160 && before.height === 120, `the canvas is 160x120 (${before.width}x${before.height})`);
+  check(before.width === viewW && before.height === viewH,
+    `the canvas is ${resolution} (${before.width}x${before.height})`);
   check(before.sum > 0, 'the first frame is not black');
   await page.screenshot({ path: path.join(outDir, 'viewer-first-frame.png') });
 
@@ -148,7 +157,8 @@ try {
   check(httpStatus === 404, `a path outside the page's files is not found (${httpStatus})`);
 
   step('converging and saving');
-  await waitFor(() => document.body.dataset.mode === 'converged', null, 60000, 'convergence');
+  await waitFor(() => document.body.dataset.mode === 'converged', null,
+    Number(process.env.VIEW_CONVERGE_MS || 60000), 'convergence');
   await page.click('#save');
   await waitFor(() => !!document.body.dataset.saved, null, 20000, 'the saved EXR');
   const saved = await page.evaluate(() => document.body.dataset.saved);
@@ -166,6 +176,7 @@ try {
   const figures = diff.status === 0 ? JSON.parse(diff.stdout) : {};
   check(figures.rmse === 0, `manylight render gives the saved view exactly (${diff.stdout.trim()})`);
   await page.screenshot({ path: path.join(outDir, 'viewer-converged.png') });
+  await page.screenshot({ path: path.join(outDir, 'viewer-converged.jpg'), type: 'jpeg', quality: 80 });
   check(pageErrors.length === 0, `no script errors on the page (${pageErrors.join('; ')})`);
 
   step('closing the pages leaves the server running');
