@@ -64,7 +64,8 @@ int run_view(const ViewArgs& a) {
     } else {
         config.width = desc.film.params.get_int("xresolution", 1280);
         config.height = desc.film.params.get_int("yresolution", 720);
-        while (config.width > kDefaultViewWidth && config.width % 2 == 0 && config.height % 2 == 0) {
+        while (config.width > kDefaultViewWidth && config.width % 2 == 0 &&
+               config.height % 2 == 0) {
             config.width /= 2;
             config.height /= 2;
         }

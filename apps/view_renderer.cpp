@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -25,7 +25,8 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }
 
 nlohmann::json view_json(const std::array<float, 9>& v) {
-    return {{"eye", {v[0], v[1], v[2]}}, {"target", {v[3], v[4], v[5]}}, {"up", {v[6], v[7], v[8]}}};
+    return {
+        {"eye", {v[0], v[1], v[2]}}, {"target", {v[3], v[4], v[5]}}, {"up", {v[6], v[7], v[8]}}};
 }
 
 // The scene's viewpoint as eye, target and up; the target on the first surface the centre of
@@ -62,7 +63,7 @@ std::map<std::string, std::string> parse_pairs(const std::string& text) {
 }  // namespace
 
 nlohmann::json ViewSettings::to_json() const {
-    return {{"vpls", vpls},       {"interleave", interleave}, {"filter", filter},
+    return {{"vpls", vpls},         {"interleave", interleave}, {"filter", filter},
             {"exposure", exposure}, {"integrator", integrator}, {"spp", spp},
             {"set", refine_set}};
 }
@@ -100,7 +101,8 @@ void ViewRenderer::set_settings(const nlohmann::json& j) {
     auto number = [&](const char* key, double lo, double hi) {
         const nlohmann::json& v = j.at(key);
         if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
-            throw UsageError(fmt::format("settings: {} must be a number from {} to {}", key, lo, hi));
+            throw UsageError(
+                fmt::format("settings: {} must be a number from {} to {}", key, lo, hi));
         return v.get<double>();
     };
     for (const auto& [key, value] : j.items()) {
@@ -195,8 +197,10 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
                  {"igi.interleave", s.interleave},
                  {"igi.filter", std::to_string(s.filter)},
                  // One light and one BSDF sample of the sampled direct light per pixel (not
-                 // four): the moving frames' budget goes to the VPLs.
-                 {"lights.direct_samples", "1"}};
+                 // four), blurred with the VPLs' light: the moving frames' budget goes to the
+                 // VPLs.
+                 {"lights.direct_samples", "1"},
+                 {"igi.filter_direct", "true"}};
     } else {
         o.integrator = s.integrator;
         o.set = m_config.set;
@@ -208,9 +212,9 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
 std::string ViewRenderer::command_line(const std::array<float, 9>& v, const ViewSettings& s,
                                        const std::string& output) const {
     RenderOptions o = options_for(false, v, s, s.spp);
-    std::string cmd = fmt::format("manylight render {} --integrator {} --spp {} --resolution {}x{}",
-                                  m_config.scene_path, o.integrator, s.spp, m_config.width,
-                                  m_config.height);
+    std::string cmd =
+        fmt::format("manylight render {} --integrator {} --spp {} --resolution {}x{}",
+                    m_config.scene_path, o.integrator, s.spp, m_config.width, m_config.height);
     cmd += " --look-at";
     for (float x : v) cmd += fmt::format(" {:.9g}", x);
     for (const auto& [k, val] : o.set) cmd += fmt::format(" --set {}={}", k, val);
@@ -227,7 +231,8 @@ std::shared_ptr<const ViewMessage> ViewRenderer::frame_message(const Image& imag
     // Linear radiance to 8-bit sRGB through a table over [0, 1] after the exposure.
     static const std::vector<uint8_t> table = [] {
         std::vector<uint8_t> t(4097);
-        for (int i = 0; i <= 4096; ++i) t[i] = uint8_t(std::lround(255.f * srgb_encode(i / 4096.f)));
+        for (int i = 0; i <= 4096; ++i)
+            t[i] = uint8_t(std::lround(255.f * srgb_encode(i / 4096.f)));
         return t;
     }();
     const float scale = std::exp2(exposure) * 4096.f;
@@ -290,16 +295,16 @@ void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessag
                 error("the view has not converged yet: wait for the refinement to finish");
                 continue;
             }
-            std::string path =
-                (std::filesystem::path(m_config.save_dir) / fmt::format("view-{:03}.exr", ++m_saves))
-                    .string();
+            std::string path = (std::filesystem::path(m_config.save_dir) /
+                                fmt::format("view-{:03}.exr", ++m_saves))
+                                   .string();
             try {
                 write_image(path, converged_image);
                 auto msg = std::make_shared<ViewMessage>();
                 msg->text = nlohmann::json{{"type", "saved"},
                                            {"path", path},
-                                           {"command", command_line(converged_view,
-                                                                    converged_settings, path)}}
+                                           {"command",
+                                            command_line(converged_view, converged_settings, path)}}
                                 .dump();
                 broadcast(msg);
             } catch (const std::exception& e) {

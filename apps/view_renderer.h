@@ -28,8 +28,8 @@ struct ViewConfig {
     std::string scene_path;  // as given on the command line (for the reproducing command)
     int width = 0, height = 0;
     int threads = 0;
-    std::string integrator = "path";  // the refining integrator
-    int spp = 64;                     // the refinement's target
+    std::string integrator = "path";         // the refining integrator
+    int spp = 64;                            // the refinement's target
     std::map<std::string, std::string> set;  // --set, passed to every render
     std::string save_dir = ".";
 };
@@ -38,7 +38,7 @@ struct ViewConfig {
 struct ViewSettings {
     int vpls = 256;
     std::string interleave = "4x4";
-    int filter = 2;
+    int filter = 1;      // interleave patterns the blur spans
     float exposure = 0;  // stops
     std::string integrator = "path";
     int spp = 64;
@@ -73,8 +73,8 @@ public:
     static const std::vector<std::string>& refine_integrators();
 
 private:
-    RenderOptions options_for(bool moving, const std::array<float, 9>& view,
-                              const ViewSettings& s, int spp) const;
+    RenderOptions options_for(bool moving, const std::array<float, 9>& view, const ViewSettings& s,
+                              int spp) const;
     std::string command_line(const std::array<float, 9>& view, const ViewSettings& s,
                              const std::string& output) const;
     std::shared_ptr<const ViewMessage> frame_message(const Image& image, nlohmann::json status,
@@ -88,8 +88,8 @@ private:
     std::condition_variable m_wake;
     std::array<float, 9> m_view;
     ViewSettings m_settings;
-    uint64_t m_version = 1;      // bumped by every change of the view or of a render setting
-    bool m_retonemap = false;    // exposure changed: send the last image again
+    uint64_t m_version = 1;    // bumped by every change of the view or of a render setting
+    bool m_retonemap = false;  // exposure changed: send the last image again
     bool m_save = false;
     bool m_stop = false;
     std::atomic<bool> m_cancel{false};

@@ -1,12 +1,12 @@
 #include "view_server.h"
 
+#include <fmt/format.h>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
-#include <fmt/format.h>
 
 #include <csignal>
 #include <cstdio>
@@ -141,10 +141,9 @@ private:
         m_writing = true;
         const auto& msg = m_queue.front();
         m_ws.text(true);
-        m_ws.async_write(net::buffer(msg->text),
-                         [self = shared_from_this()](beast::error_code ec, size_t) {
-                             self->after_text(ec);
-                         });
+        m_ws.async_write(
+            net::buffer(msg->text),
+            [self = shared_from_this()](beast::error_code ec, size_t) { self->after_text(ec); });
     }
 
     void after_text(beast::error_code ec) {
@@ -152,10 +151,9 @@ private:
         const auto& msg = m_queue.front();
         if (msg->rgba.empty()) return after_write({});
         m_ws.binary(true);
-        m_ws.async_write(net::buffer(msg->rgba),
-                         [self = shared_from_this()](beast::error_code ec, size_t) {
-                             self->after_write(ec);
-                         });
+        m_ws.async_write(
+            net::buffer(msg->rgba),
+            [self = shared_from_this()](beast::error_code ec, size_t) { self->after_write(ec); });
     }
 
     void after_write(beast::error_code ec) {
@@ -229,10 +227,9 @@ private:
         m_parser->header_limit(kMaxRequestBytes);
         m_parser->body_limit(kMaxRequestBytes);
         m_stream.expires_after(std::chrono::seconds(30));
-        http::async_read(m_stream, m_buffer, *m_parser,
-                         [self = shared_from_this()](beast::error_code ec, size_t) {
-                             self->on_read(ec);
-                         });
+        http::async_read(
+            m_stream, m_buffer, *m_parser,
+            [self = shared_from_this()](beast::error_code ec, size_t) { self->on_read(ec); });
     }
 
     void on_read(beast::error_code ec) {
@@ -248,16 +245,15 @@ private:
             return;
         }
         auto res = std::make_shared<http::response<http::string_body>>(respond(req));
-        http::async_write(m_stream, *res,
-                          [self = shared_from_this(), res](beast::error_code ec, size_t) {
-                              if (ec || res->need_eof()) {
-                                  beast::error_code ignored;
-                                  self->m_stream.socket().shutdown(tcp::socket::shutdown_send,
-                                                                   ignored);
-                                  return;
-                              }
-                              self->read();
-                          });
+        http::async_write(
+            m_stream, *res, [self = shared_from_this(), res](beast::error_code ec, size_t) {
+                if (ec || res->need_eof()) {
+                    beast::error_code ignored;
+                    self->m_stream.socket().shutdown(tcp::socket::shutdown_send, ignored);
+                    return;
+                }
+                self->read();
+            });
     }
 
     beast::tcp_stream m_stream;
@@ -288,7 +284,8 @@ void serve_viewer(ViewRenderer& renderer, const ViewServerOptions& opt) {
     if (!ec) acceptor.bind(endpoint, ec);
     if (!ec) acceptor.listen(net::socket_base::max_listen_connections, ec);
     if (ec)
-        throw UsageError(fmt::format("cannot listen on {}:{}: {}", opt.bind, opt.port, ec.message()));
+        throw UsageError(
+            fmt::format("cannot listen on {}:{}: {}", opt.bind, opt.port, ec.message()));
     Hub hub{renderer, {}};
     accept(acceptor, hub);
 

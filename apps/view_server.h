@@ -15,8 +15,8 @@ namespace ml {
 
 struct ViewServerOptions {
     std::string bind = "127.0.0.1";
-    int port = 8080;         // 0: any free port
-    double exit_after = 0;   // seconds; > 0: stop by itself after this long (tests)
+    int port = 8080;        // 0: any free port
+    double exit_after = 0;  // seconds; > 0: stop by itself after this long (tests)
 };
 
 // Listens, prints the address to open, and serves until SIGINT or SIGTERM (or exit_after);

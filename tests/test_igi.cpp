@@ -56,6 +56,11 @@ struct Quadrants {
                 t.valid = true;
                 t.depth = x >= 20 ? 2.f : 1.f;
                 t.n = y >= 15 ? Vec3(0, std::sin(1.0472f), std::cos(1.0472f)) : Vec3(0, 0, 1);
+                // On planes z = depth (above) and, below, tilted 60 degrees about x through the
+                // line y = 15 (pixel pitch 0.01), so neighbours within a region are continuous.
+                float px = 0.01f * float(x), py = 0.01f * float(y);
+                float z = y >= 15 ? t.depth - std::tan(1.0472f) * (py - 0.15f) : t.depth;
+                t.p = Vec3(px, py, z);
                 float v = 10.f * float(region(x, y)) + u(rng);  // region r: [10 r, 10 r + 1)
                 image[y * w + x] = RGB(v, v, v);
             }
@@ -65,19 +70,19 @@ struct Quadrants {
 TEST(IgiFilter, NeverBlursAcrossDepthOrNormalEdges) {
     Quadrants q;
     DiscontinuityThresholds t;  // 5% depth, 25 degrees
-    for (int radius : {1, 2, 4, 9}) {
-        std::vector<RGB> out = discontinuity_filter(q.image, q.gbuffer, q.w, q.h, radius, t);
+    for (int size : {2, 3, 4, 5, 8, 19}) {
+        std::vector<RGB> out = discontinuity_filter(q.image, q.gbuffer, q.w, q.h, size, size, t);
         double var_in = 0, var_out = 0;
         for (int y = 0; y < q.h; ++y)
             for (int x = 0; x < q.w; ++x) {
                 float lo = 10.f * float(Quadrants::region(x, y)), v = out[y * q.w + x].r;
-                ASSERT_GE(v, lo) << "radius " << radius << " at " << x << "," << y;
-                ASSERT_LT(v, lo + 1.f) << "radius " << radius << " at " << x << "," << y;
+                ASSERT_GE(v, lo) << "size " << size << " at " << x << "," << y;
+                ASSERT_LT(v, lo + 1.f) << "size " << size << " at " << x << "," << y;
                 var_in += std::pow(q.image[y * q.w + x].r - lo - 0.5, 2);
                 var_out += std::pow(v - lo - 0.5, 2);
             }
         // It does blur within the regions: the noise's variance drops.
-        EXPECT_LT(var_out, 0.5 * var_in) << "radius " << radius;
+        EXPECT_LT(var_out, 0.5 * var_in) << "size " << size;
     }
 }
 
@@ -86,7 +91,7 @@ TEST(IgiFilter, BlursWithinThresholdsAndKeepsInvalidPixels) {
     DiscontinuityThresholds wide;
     wide.depth = 1.5f;   // depth 1 and 2 are continuous
     wide.normal = 70.f;  // so are the two normals
-    std::vector<RGB> out = discontinuity_filter(q.image, q.gbuffer, q.w, q.h, 1, wide);
+    std::vector<RGB> out = discontinuity_filter(q.image, q.gbuffer, q.w, q.h, 3, 3, wide);
     // Pixel (19, 14) touches all four regions: its 3x3 mean mixes them.
     float v = out[14 * q.w + 19].r;
     EXPECT_GT(v, 5.f);
@@ -94,11 +99,11 @@ TEST(IgiFilter, BlursWithinThresholdsAndKeepsInvalidPixels) {
     // An invalid pixel keeps its value and is never averaged in.
     q.gbuffer[5 * q.w + 5].valid = false;
     q.image[5 * q.w + 5] = RGB(1e6f);
-    out = discontinuity_filter(q.image, q.gbuffer, q.w, q.h, 2, DiscontinuityThresholds{});
+    out = discontinuity_filter(q.image, q.gbuffer, q.w, q.h, 5, 4, DiscontinuityThresholds{});
     EXPECT_EQ(out[5 * q.w + 5].r, 1e6f);
     EXPECT_LT(out[5 * q.w + 6].r, 1.f);
-    // Radius 0: unchanged.
-    EXPECT_EQ(discontinuity_filter(q.image, q.gbuffer, q.w, q.h, 0, DiscontinuityThresholds{}),
+    // A 1x1 window: unchanged.
+    EXPECT_EQ(discontinuity_filter(q.image, q.gbuffer, q.w, q.h, 1, 1, DiscontinuityThresholds{}),
               q.image);
 }
 
@@ -189,6 +194,44 @@ TEST(Igi, BadSettingsAreUsageErrors) {
     RenderOptions both = igi_options("igi", 1);
     both.set["igi.vpls"] = "10";
     EXPECT_THROW(test::render_text(igi_test_scene(), both), UsageError);
+}
+
+}  // namespace
+}  // namespace ml
+
+namespace ml {
+namespace {
+
+// --look-at with the scene's own LookAt renders the scene's image, with or without a
+// `Scale -1 1 1` before it (the viewer's views keep the scene's handedness).
+TEST(LookAt, TheScenesOwnLookAtRendersTheScenesImage) {
+    for (const char* prefix : {"", "Scale -1 1 1\n"}) {
+        std::string text = std::string(prefix) + R"(LookAt 0.3 1.2 -4  0 0.5 0.2  0 1 0
+Camera "perspective" "float fov" [ 50 ]
+Film "rgb" "integer xresolution" [ 20 ] "integer yresolution" [ 14 ]
+Sampler "independent"
+WorldBegin
+)" + vpl_test::mixed_box();
+        RenderOptions o;
+        o.integrator = "direct";
+        o.spp = 2;
+        RenderOutput a = test::render_text(text, o);
+        o.look_at = std::array<float, 9>{0.3f, 1.2f, -4, 0, 0.5f, 0.2f, 0, 1, 0};
+        RenderOutput b = test::render_text(text, o);
+        double diff = 0, sum = 0;
+        for (size_t i = 0; i < a.image.pixels.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                diff += std::abs(a.image.pixels[i][c] - b.image.pixels[i][c]);
+                sum += a.image.pixels[i][c];
+            }
+        EXPECT_GT(sum, 0) << prefix;
+        EXPECT_LT(diff, 1e-4 * sum) << "with prefix \"" << prefix << "\"";
+        // A different view gives a different image.
+        o.look_at = std::array<float, 9>{-0.3f, 1.2f, -4, 0, 0.5f, 0.2f, 0, 1, 0};
+        EXPECT_NE(test::render_text(text, o).image.pixels, a.image.pixels);
+        o.look_at = std::array<float, 9>{0, 0, 0, 0, 0, 0, 0, 1, 0};
+        EXPECT_THROW(test::render_text(text, o), UsageError);
+    }
 }
 
 }  // namespace

@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -171,14 +171,13 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
 RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions& opt,
                       RenderOutput out) {
     RenderFigures& fig = out.figures;
-    const int width = plan.width, height = plan.height, threads = opt.threads > 0
-                                                                      ? opt.threads
-                                                                      : default_thread_count();
+    const int width = plan.width, height = plan.height,
+              threads = opt.threads > 0 ? opt.threads : default_thread_count();
     const std::string& name = plan.name;
     ThreadLimit limit(threads);
     Film film(width, height, plan.max_component, plan.imaging_ratio);
     Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
-    RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,      *plan.sampler,
+    RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,     *plan.sampler,
                       plan.spp, opt.time_limit, &progress,    plan.seed};
     ctx.cancel = opt.cancel;
     RenderResult result;

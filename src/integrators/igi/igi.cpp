@@ -15,7 +15,7 @@ namespace {
 // The defaults: the best measured on the kitchen at 640x360 (bench/RESULTS.md, "Issue 16").
 constexpr int kDefaultVpls = 256;
 constexpr const char* kDefaultInterleave = "4x4";
-constexpr int kDefaultFilter = 2;
+constexpr int kDefaultFilter = 1;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -32,8 +32,9 @@ IgiSettings IgiSettings::read(const Settings& s) {
         throw UsageError("igi.interleave must be NxM with N and M from 1 to 64 (e.g. 4x4), not " +
                          interleave);
     r.filter = s.get_int("filter", kDefaultFilter);
-    if (r.filter < 0 || r.filter > 32)
-        throw UsageError("igi.filter (the blur's radius in pixels) must be from 0 to 32");
+    if (r.filter < 0 || r.filter > 8)
+        throw UsageError(
+            "igi.filter (the blur's size in interleave patterns; 0: none) must be from 0 to 8");
     r.thresholds.depth = s.get_float("depth_threshold", r.thresholds.depth);
     r.thresholds.normal = s.get_float("normal_threshold", r.thresholds.normal);
     if (!(r.thresholds.depth >= 0) || !(r.thresholds.normal >= 0 && r.thresholds.normal <= 180))
@@ -41,6 +42,7 @@ IgiSettings IgiSettings::read(const Settings& s) {
             "igi.depth_threshold must be >= 0 (relative depth) and igi.normal_threshold from 0 to "
             "180 (degrees)");
     r.packets = s.get_bool("packets", r.packets);
+    r.filter_direct = s.get_bool("filter_direct", r.filter_direct);
     return r;
 }
 
@@ -149,18 +151,22 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
             Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
             RGB indirect;
             bool first = s == 0;
-            RGB direct =
-                gather_along(scene, ray, sampler, ts.scratch, m_many.max_depth,
-                             [&](const GatherPoint& g, float) {
-                                 if (first) {
-                                     gbuffer[index] = {g.si.ns, length(g.si.p - ray.o), true};
-                                     first = false;
-                                 }
-                                 RGB L = m_direct.estimate(scene, g, sampler);
-                                 L += shade(scene, g, m_emitters, 1.f);
-                                 indirect += shade(scene, g, m_subsets[sub], m_scales[sub]);
-                                 return L;
-                             });
+            RGB direct = gather_along(
+                scene, ray, sampler, ts.scratch, m_many.max_depth,
+                [&](const GatherPoint& g, float) {
+                    if (first) {
+                        gbuffer[index] = {g.si.p, g.si.ns, length(g.si.p - ray.o), true};
+                        first = false;
+                    }
+                    RGB L = m_direct.estimate(scene, g, sampler);
+                    if (m_igi.filter_direct) {
+                        indirect += L;
+                        L = RGB();
+                    }
+                    L += shade(scene, g, m_emitters, 1.f);
+                    indirect += shade(scene, g, m_subsets[sub], m_scales[sub]);
+                    return L;
+                });
             if (direct.is_finite() && indirect.is_finite()) {
                 px.direct += direct * weight;
                 px.indirect += indirect * weight;
@@ -176,7 +182,10 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     std::vector<RGB> indirect(pixels.size());
     for (size_t i = 0; i < pixels.size(); ++i)
         if (pixels[i].weight != 0) indirect[i] = pixels[i].indirect / pixels[i].weight;
-    indirect = discontinuity_filter(indirect, gbuffer, w, h, m_igi.filter, m_igi.thresholds);
+    // The window spans igi.filter whole n x m patterns: every VPL subset counts equally.
+    if (m_igi.filter > 0)
+        indirect = discontinuity_filter(indirect, gbuffer, w, h, m_igi.filter * m_igi.n,
+                                        m_igi.filter * m_igi.m, m_igi.thresholds);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = size_t(y) * w + x;

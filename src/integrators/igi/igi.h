@@ -20,9 +20,14 @@ namespace ml {
 
 struct IgiSettings {
     int n = 4, m = 4;  // igi.interleave=NxM
-    int filter = 2;    // igi.filter: the box blur's radius in pixels (0: none)
+    // igi.filter: the box blur spans filter x filter interleave patterns, (filter n) x
+    // (filter m) pixels, so each VPL subset counts once per pattern (0: no filter).
+    int filter = 1;
     DiscontinuityThresholds thresholds;
     bool packets = true;  // igi.packets: shadow rays in Embree packets of eight
+    // igi.filter_direct: the sampled direct light (lights.direct=sample) goes through the
+    // filter with the VPLs' light (the viewer's moving frames: one noisy sample per pixel).
+    bool filter_direct = false;
     static IgiSettings read(const Settings& s);
 };
 

@@ -25,16 +25,19 @@ InterleavedLayout::InterleavedLayout(int width, int height, int n, int m)
 
 bool continuous(const GBufferTexel& p, const GBufferTexel& q, const DiscontinuityThresholds& t) {
     if (!p.valid || !q.valid) return false;
-    if (std::abs(p.depth - q.depth) > t.depth * p.depth) return false;
+    if (std::abs(dot(p.n, q.p - p.p)) > t.depth * p.depth) return false;
     return dot(p.n, q.n) >= std::cos(t.normal * kPi / 180.f);
 }
 
 std::vector<RGB> discontinuity_filter(const std::vector<RGB>& image,
                                       const std::vector<GBufferTexel>& gbuffer, int width,
-                                      int height, int radius, const DiscontinuityThresholds& t) {
+                                      int height, int size_x, int size_y,
+                                      const DiscontinuityThresholds& t) {
     ML_ASSERT(image.size() == size_t(width) * height && gbuffer.size() == image.size(),
               "filter buffers of the wrong size");
-    if (radius <= 0) return image;
+    if (size_x <= 1 && size_y <= 1) return image;
+    const int x_lo = size_x / 2, x_hi = size_x - 1 - size_x / 2;
+    const int y_lo = size_y / 2, y_hi = size_y - 1 - size_y / 2;
     std::vector<RGB> out(image.size());
     const float cos_normal = std::cos(t.normal * kPi / 180.f);
     parallel_for(0, height, [&](int y) {
@@ -47,13 +50,12 @@ std::vector<RGB> discontinuity_filter(const std::vector<RGB>& image,
             }
             RGB sum;
             int count = 0;
-            for (int qy = std::max(0, y - radius); qy <= std::min(height - 1, y + radius); ++qy)
-                for (int qx = std::max(0, x - radius); qx <= std::min(width - 1, x + radius);
-                     ++qx) {
+            for (int qy = std::max(0, y - y_lo); qy <= std::min(height - 1, y + y_hi); ++qy)
+                for (int qx = std::max(0, x - x_lo); qx <= std::min(width - 1, x + x_hi); ++qx) {
                     size_t j = size_t(qy) * width + qx;
                     const GBufferTexel& q = gbuffer[j];
                     // continuous(p, q) with the cosine taken once.
-                    if (!q.valid || std::abs(p.depth - q.depth) > t.depth * p.depth ||
+                    if (!q.valid || std::abs(dot(p.n, q.p - p.p)) > t.depth * p.depth ||
                         dot(p.n, q.n) < cos_normal)
                         continue;
                     sum += image[j];

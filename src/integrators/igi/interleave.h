@@ -71,25 +71,32 @@ private:
 
 // What the discontinuity filter knows of a pixel: the first surface the camera saw there.
 struct GBufferTexel {
+    Vec3 p;              // the surface point
     Vec3 n;              // shading normal
     float depth = 0;     // distance from the camera
     bool valid = false;  // false where the camera saw no surface to gather at
 };
 
 struct DiscontinuityThresholds {
-    float depth = 0.05f;  // relative: |d_p - d_q| > depth * d_p is an edge
+    // Relative depth: q is off p's surface when its distance from p's tangent plane exceeds
+    // depth * (p's distance from the camera). The plane, not the depths, so that a surface seen
+    // at a grazing angle, whose depth changes fast from pixel to pixel, stays continuous.
+    float depth = 0.05f;
     float normal = 25.f;  // degrees between normals beyond which there is an edge
 };
 
-// True when q belongs to p's continuous region: both valid, depths within the relative
-// threshold and normals within the angle.
+// True when q belongs to p's continuous region: both valid, q within the relative distance of
+// p's tangent plane and the normals within the angle.
 bool continuous(const GBufferTexel& p, const GBufferTexel& q, const DiscontinuityThresholds& t);
 
-// The box blur of `radius` over continuous regions: each valid pixel becomes the mean of the
-// pixels of its (2 radius + 1)^2 window that are continuous with it (itself included); invalid
-// pixels keep their value. Radius 0 returns the image unchanged. Parallel over rows.
+// The box blur over continuous regions: each valid pixel becomes the mean of the pixels of its
+// size_x x size_y window that are continuous with it (itself included); invalid pixels keep
+// their value. The window spans offsets -(size / 2) to size - 1 - size / 2 on each axis, so an
+// n x m window covers each of n x m sub-buffers once. Sizes of 1 return the image unchanged.
+// Parallel over rows.
 std::vector<RGB> discontinuity_filter(const std::vector<RGB>& image,
                                       const std::vector<GBufferTexel>& gbuffer, int width,
-                                      int height, int radius, const DiscontinuityThresholds& t);
+                                      int height, int size_x, int size_y,
+                                      const DiscontinuityThresholds& t);
 
 }  // namespace ml
