@@ -140,15 +140,23 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     if (opt.integrator.empty() && !desc.integrator.name.empty() && scene_integrator.empty())
         plan.warnings.push_back(fmt::format(
             "{}: the scene asks for integrator \"{}\", which manylight does not have; rendering "
-            "with \"path\" (its parameters are ignored)",
+            "with \"path\" (its parameters but maxdepth are ignored)",
             desc.integrator.loc.to_string(), desc.integrator.name));
     const IntegratorInfo* info = find_integrator(name);
     if (!info) throw UsageError("unknown integrator \"" + name + "\"");
     std::map<std::string, std::string> overrides = opt.set;
-    if (opt.max_depth) overrides[name + ".maxdepth"] = std::to_string(*opt.max_depth);
-    // The scene's parameters apply only to the integrator they were written for.
+    // The scene's parameters apply only to the integrator they were written for, except
+    // "maxdepth": it is the scene's light transport (the longest path), and means the same in
+    // every pbrt-v4 integrator and ours, so a scene written for `path` keeps its depth under
+    // `mdlightcuts`. --max-depth and --set NAME.maxdepth override it.
     const ParameterList* scene_params =
         name == scene_integrator ? &desc.integrator.params : nullptr;
+    if (opt.max_depth)
+        overrides[name + ".maxdepth"] = std::to_string(*opt.max_depth);
+    else if (!scene_params && desc.integrator.params.has("maxdepth") &&
+             !overrides.count(name + ".maxdepth"))
+        overrides[name + ".maxdepth"] =
+            std::to_string(desc.integrator.params.get_int("maxdepth", 5));
     Settings settings(name, scene_params, overrides);
     auto integrator = info->create(settings);
     settings.check_unused();

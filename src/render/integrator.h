@@ -86,6 +86,8 @@ public:
     RenderResult render(const RenderContext& ctx) override;
     // Called once before rendering (after the scene is ready).
     virtual void prepare(const Scene& scene) {}
+    // Called after prepare(), before the first sample (a pilot pass may run here).
+    virtual void before_pixels(const RenderContext& ctx) {}
     // Radiance arriving along `ray`.
     virtual RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
                    Point2i pixel) const = 0;

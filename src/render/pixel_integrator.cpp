@@ -28,6 +28,7 @@ Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
 
 RenderResult PixelIntegrator::render(const RenderContext& ctx) {
     prepare(ctx.scene);
+    before_pixels(ctx);
     ThreadLocal<ThreadState> states([&] {
         return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
     });

@@ -5,9 +5,11 @@
 #include <algorithm>
 
 #include "core/cone.h"
+#include "core/parallel.h"
 #include "core/stats.h"
 #include "manylight/bounds.h"
 #include "manylight/gather.h"
+#include "manylight/pilot.h"
 #include "manylight/representative.h"
 
 namespace ml {
@@ -17,6 +19,8 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_verify = settings.get_bool("verify", false);
+    m_floor = settings.get_float("floor", m_floor);
+    if (!(m_floor >= 0)) throw UsageError("lightcuts.floor must be >= 0");
     m_reps = settings.get_int("reps", kLightTreeReps);
     if (m_reps < 1 || m_reps > kLightTreeReps)
         throw UsageError(fmt::format("lightcuts.reps must be 1 to {}", kLightTreeReps));
@@ -59,6 +63,8 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     if (!warning.empty()) r.warnings.push_back(warning);
     nlohmann::json& lc = r.stats["lightcuts"];
     lc = {{"error", m_error},
+          {"floor", m_floor},
+          {"floor_luminance", m_floor_luminance},
           {"criterion", criterion_name()},
           {"reps", m_reps},
           {"max_cut", m_max_cut},
@@ -85,6 +91,35 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
         cut.pixels[i] = RGB(m_pixel_samples[i] ? m_pixel_cut[i] / m_pixel_samples[i] : 0.f);
     r.aovs["cutsize"] = std::move(cut);
     return r;
+}
+
+void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
+    m_floor_luminance = 0;
+    if (!(m_floor > 0)) return;
+    // Sample 0 of each pilot pixel, shaded as li() does with cuts of at most kPilotMaxCut nodes.
+    struct State {
+        std::unique_ptr<Sampler> sampler;
+        ScratchBuffer scratch;
+    };
+    ThreadLocal<State> states([&] { return State{ctx.sampler.clone(), ScratchBuffer()}; });
+    double mean = pilot_mean_luminance(ctx.film.width(), ctx.film.height(), [&](Point2i pixel) {
+        State& st = states.local();
+        Sampler& sampler = *st.sampler;
+        sampler.start_pixel_sample(pixel, 0);
+        float weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
+        RGB L = gather_along(ctx.scene, ray, sampler, st.scratch, m_settings.max_depth,
+                             [&](const GatherPoint& g, float u) {
+                                 int cut_size = 0;
+                                 RGB direct = m_direct.estimate(ctx.scene, g, sampler);
+                                 int k = std::min(m_reps - 1, int(u * float(m_reps)));
+                                 return direct +
+                                        shade(ctx.scene, g, k, &cut_size, direct, kPilotMaxCut);
+                             });
+        st.scratch.reset();
+        return L;
+    });
+    m_floor_luminance = float(m_floor * mean);
 }
 
 RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
@@ -129,7 +164,7 @@ RGB LightcutsIntegrator::error_bound(const RGB& bound, const LightTreeNode& n,
 }
 
 RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
-                               const RGB& known) const {
+                               const RGB& known, int max_cut) const {
     const Vec3& x = g.si.p;
     const Vec3& wo = g.si.wo;
     // The representative's contribution: exact, with its shadow ray (and VPL clamping).
@@ -194,9 +229,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         std::push_heap(heap.begin(), heap.end());
     }
     // Refine the worst node until every bound is within the error of the estimate.
-    while (!heap.empty() && int(heap.size()) < m_max_cut) {
+    while (!heap.empty() && int(heap.size()) < max_cut) {
         const CutEntry& top = heap.front();
-        float tolerance = m_error * total.luminance();
+        float tolerance = cut_tolerance(m_error, total, m_floor_luminance);
         if (top.bound <= 0.f) break;
         if (m_criterion == Criterion::Max && top.bound <= tolerance) break;
         if (m_criterion == Criterion::Sum && bound_sum <= tolerance) break;
@@ -238,7 +273,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     // Sum the cut afresh: the running total drifts by float cancellation.
     RGB L;
     for (const CutEntry& e : heap) L += e.estimate;
-    if (m_verify) verify_cut(scene, g, heap, L);
+    if (m_verify && max_cut == m_max_cut) verify_cut(scene, g, heap, L);  // not the pilot
     return L;
 }
 

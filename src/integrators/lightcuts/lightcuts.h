@@ -37,6 +37,8 @@ public:
     explicit LightcutsIntegrator(const Settings& settings);
     std::string name() const override { return "lightcuts"; }
     void prepare(const Scene& scene) override;
+    // The error floor's pilot (manylight/pilot.h).
+    void before_pixels(const RenderContext& ctx) override;
     RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
            Point2i pixel) const override;
     RenderResult render(const RenderContext& ctx) override;
@@ -56,7 +58,11 @@ private:
     // `known`: radiance the gather point gets besides the cut (sampled direct light), which
     // counts in the estimate the error threshold is relative to.
     RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
-              const RGB& known = RGB()) const;
+              const RGB& known = RGB()) const {
+        return shade(scene, g, k, cut_size, known, m_max_cut);
+    }
+    RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size, const RGB& known,
+              int max_cut) const;
     // A node's error bound (RGB, times the gather point's throughput) from a bound of its
     // lights' sum: at most the larger of that and the estimate. With vpl.clamp > 0 the sum is
     // also at most n times the clamp per channel, for a node of n VPLs.
@@ -75,6 +81,9 @@ private:
                                              : (m_criterion == Criterion::Sum ? "sum" : "probable");
     }
     int m_max_cut = 1000;
+    // The error floor (manylight/pilot.h): `lightcuts.floor` times the pilot's mean luminance.
+    float m_floor = 0.1f;
+    float m_floor_luminance = 0;
     bool m_verify = false;
     int m_reps = kLightTreeReps;  // representatives per node drawn from (1: always the first)
     mutable std::atomic<uint64_t> m_verified_nodes{0}, m_violations{0};

@@ -10,6 +10,7 @@
 #include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
+#include "manylight/pilot.h"
 #include "render/render_loop.h"
 
 namespace ml {
@@ -33,6 +34,8 @@ MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_tighten = settings.get_int("tighten", 1);
+    m_floor = settings.get_float("floor", m_floor);
+    if (!(m_floor >= 0)) throw UsageError("mdlightcuts.floor must be >= 0");
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
         m_criterion = CutCriterion::Max;
@@ -61,6 +64,14 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     ThreadLocal<ThreadState> states([&] {
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
     });
+    // The error floor, from a pilot of small cuts on pass 0's samples.
+    m_floor_luminance = 0;
+    if (m_floor > 0)
+        m_floor_luminance = float(
+            m_floor * pilot_mean_luminance(ctx.film.width(), ctx.film.height(), [&](Point2i pixel) {
+                PassEstimate e = estimate_pass(ctx, states.local(), pixel, 0, kPilotMaxCut);
+                return e.value;
+            }));
     // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
     // takes samples).
     const int passes = (ctx.spp + m_samples - 1) / m_samples;
@@ -88,6 +99,28 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
 
 void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadState& ts,
                                               Point2i pixel, int pass) const {
+    PassEstimate e = estimate_pass(ctx, ts, pixel, pass, m_max_cut);
+    if (e.weight_sum == 0) return;
+    ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
+
+    // Figures.
+    int pairs = e.pairs;
+    m_pair_sum.fetch_add(uint64_t(pairs), std::memory_order_relaxed);
+    m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
+    if (pairs >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
+    m_gather_points.fetch_add(e.gather_points, std::memory_order_relaxed);
+    int prev = m_pair_max.load(std::memory_order_relaxed);
+    while (pairs > prev && !m_pair_max.compare_exchange_weak(prev, pairs)) {
+    }
+    size_t i = size_t(pixel.y) * ctx.film.width() + pixel.x;
+    m_pixel_pairs[i] += float(pairs);
+    ++m_pixel_passes_done[i];
+}
+
+MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
+                                                                         ThreadState& ts,
+                                                                         Point2i pixel, int pass,
+                                                                         int max_cut) const {
     const Scene& scene = ctx.scene;
     Sampler& sampler = *ts.sampler;
     ts.points.clear();
@@ -118,9 +151,10 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
         known += L * weight;
         weight_sum += weight;
     }
+    PassEstimate out;
     if (weight_sum == 0) {
         ts.scratch.reset();
-        return;
+        return out;
     }
     float inv_weight = float(1.0 / weight_sum);
     known *= inv_weight;
@@ -147,23 +181,16 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     int pairs = 0;
     if (spare >= 0) {
         int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
-        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, m_max_cut, m_criterion, m_tighten);
+        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, m_criterion, m_tighten,
+                          m_floor_luminance);
         pairs = int(ts.cut.pairs().size());
     }
-    ctx.film.add_sample(pixel, known + C, float(weight_sum));
     ts.scratch.reset();
-
-    // 4. Figures.
-    m_pair_sum.fetch_add(uint64_t(pairs), std::memory_order_relaxed);
-    m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
-    if (pairs >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
-    m_gather_points.fetch_add(ts.points.size(), std::memory_order_relaxed);
-    int prev = m_pair_max.load(std::memory_order_relaxed);
-    while (pairs > prev && !m_pair_max.compare_exchange_weak(prev, pairs)) {
-    }
-    size_t i = size_t(pixel.y) * ctx.film.width() + pixel.x;
-    m_pixel_pairs[i] += float(pairs);
-    ++m_pixel_passes_done[i];
+    out.value = known + C;
+    out.weight_sum = weight_sum;
+    out.pairs = pairs;
+    out.gather_points = ts.points.size();
+    return out;
 }
 
 nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {
@@ -176,6 +203,8 @@ nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int
         {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
         {"max_cut", m_max_cut},
         {"tighten", m_tighten},
+        {"floor", m_floor},
+        {"floor_luminance", m_floor_luminance},
         {"passes", passes},
         {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
         {"max_cut_size", m_pair_max.load()},

@@ -36,7 +36,17 @@ public:
 private:
     struct ThreadState;
     void prepare(const Scene& scene);
-    // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1) added to the film.
+    struct PassEstimate {
+        RGB value;              // the pixel's filtered mean over the pass's samples
+        double weight_sum = 0;  // their summed filter weight (0: no sample counts)
+        int pairs = 0;          // the cut's size
+        size_t gather_points = 0;
+    };
+    // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1), with cuts of at most
+    // max_cut pairs.
+    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
+                               int max_cut) const;
+    // The same, added to the film and counted in the figures.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                            int pass) const;
     nlohmann::json figures_json(const RenderContext& ctx, int passes) const;
@@ -47,6 +57,9 @@ private:
     float m_error = 0.1f;
     int m_max_cut = 1000;
     int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
+    // The error floor (manylight/pilot.h): `mdlightcuts.floor` times the pilot's mean luminance.
+    float m_floor = 0.1f;
+    float m_floor_luminance = 0;
     CutCriterion m_criterion = CutCriterion::Max;
     PointLightSet m_set;
     SampledDirectLight m_direct;

@@ -6,6 +6,7 @@
 
 #include "core/cone.h"
 #include "manylight/bounds.h"
+#include "manylight/pilot.h"
 #include "manylight/representative.h"
 
 namespace ml {
@@ -190,7 +191,7 @@ bool ProductCut::split_gather(const GatherTree& gtree, const ProductPair& p) con
 
 RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                        int k, const RGB& known, float error, int max_cut, CutCriterion criterion,
-                       int tighten_members) {
+                       int tighten_members, float floor_luminance) {
     m_cut.clear();
     int32_t groot = gtree.root();
     if (groot < 0) return RGB();
@@ -263,7 +264,7 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
     // 2. Refine the pair with the largest bound until every bound is within the error.
     while (!m_heap.empty() && int(m_cut.size()) < 2 * max_cut) {
         float top = m_heap.front().bound;
-        float tolerance = error * total.luminance();
+        float tolerance = cut_tolerance(error, total, floor_luminance);
         if (top <= 0.f) break;
         // At max_cut pairs only a pair whose bound is a large part of the pixel's estimate is
         // still split (up to twice as many pairs): a rare representative scaled to its whole

@@ -85,9 +85,12 @@ public:
     // `tighten_members` members gets its tight bound when it reaches the top of the heap (as
     // Lightcuts does); a larger one is split on its loose bound, since the tight bound costs a
     // material bound per member (about as much as several shadow rays).
+    // `floor_luminance`: the tolerance is error times the larger of the estimate's luminance and
+    // this (manylight/pilot.h).
     RGB refine(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree, int k,
                const RGB& known, float error, int max_cut,
-               CutCriterion criterion = CutCriterion::Max, int tighten_members = 1 << 30);
+               CutCriterion criterion = CutCriterion::Max, int tighten_members = 1 << 30,
+               float floor_luminance = 0);
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
