@@ -15,6 +15,7 @@ struct RenderArgs {
     double time_limit = 0;
     std::vector<std::string> set;
     std::vector<std::string> aovs;
+    std::vector<float> look_at;  // --look-at: eye, target, up (9 numbers)
     bool quiet = false;
 };
 void add_render_command(CLI::App& app, RenderArgs& args);
@@ -34,5 +35,14 @@ struct InfoArgs {
 };
 void add_info_command(CLI::App& app, InfoArgs& args);
 int run_info(const InfoArgs& args);
+
+struct ViewArgs {
+    std::string scene, bind = "127.0.0.1", integrator, resolution, output_dir = ".";
+    int port = 8080, threads = 0, spp = 0;
+    std::vector<std::string> set;
+    double exit_after = 0;  // seconds; > 0: stop by itself (tests)
+};
+void add_view_command(CLI::App& app, ViewArgs& args);
+int run_view(const ViewArgs& args);
 
 }  // namespace ml

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
     ml::add_diff_command(app, diff_args);
     ml::InfoArgs info_args;
     ml::add_info_command(app, info_args);
+    ml::ViewArgs view_args;
+    ml::add_view_command(app, view_args);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("render")) return ml::run_render(render_args);
         if (app.got_subcommand("diff")) return ml::run_diff(diff_args);
         if (app.got_subcommand("info")) return ml::run_info(info_args);
+        if (app.got_subcommand("view")) return ml::run_view(view_args);
     } catch (const ml::InputError& e) {
         std::fflush(stdout);
         std::cerr << e.formatted() << "\n";

@@ -3,6 +3,8 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -48,6 +50,11 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
                   "also write an extra image the integrator makes (lightcuts: cutsize) to "
                   "OUT.NAME.exr (repeatable)")
         ->allow_extra_args(false);
+    r->add_option("--look-at", a.look_at,
+                  "the camera at EX EY EZ looking at TX TY TZ with up UX UY UZ (as the scene's "
+                  "LookAt; `manylight view` prints it)")
+        ->expected(9)
+        ->allow_extra_args(false);
     r->add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
 }
 
@@ -77,6 +84,11 @@ int run_render(const RenderArgs& a) {
     o.threads = a.threads;
     o.time_limit = a.time_limit;
     o.progress = !a.quiet;
+    if (!a.look_at.empty()) {
+        std::array<float, 9> v;
+        std::copy(a.look_at.begin(), a.look_at.end(), v.begin());
+        o.look_at = v;
+    }
     for (const std::string& kv : a.set) {  // checked by setting(): NAME.KEY=VALUE
         size_t eq = kv.find('=');
         o.set[kv.substr(0, eq)] = kv.substr(eq + 1);

@@ -260,3 +260,17 @@ TEST_F(Cli, TimeLimitHoldsWhenOnePassWouldTakeMinutes) {
         EXPECT_LT(render, limit + 1.5) << integrator << ": " << stats;
     }
 }
+
+// `manylight view` and `render --look-at`: bad input is a clear error before anything listens.
+TEST(CliView, BadInputIsAClearError) {
+    Result r = run("view /nonexistent/scene.pbrt --port 0");
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("/nonexistent/scene.pbrt"), std::string::npos) << r.output;
+    r = run("view x.pbrt --port 70000");
+    EXPECT_EQ(r.code, 2) << r.output;
+    r = run("view x.pbrt --integrator vpl");
+    EXPECT_EQ(r.code, 2) << r.output;
+    r = run("render --look-at 0 0 0 0 0 1 0 1 -q -o /tmp/manylight-cli-never.png");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_FALSE(std::filesystem::exists("/tmp/manylight-cli-never.png"));
+}

@@ -2,6 +2,7 @@
 
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/direct/direct.h"
+#include "integrators/igi/igi.h"
 #include "integrators/lightcuts/lightcuts.h"
 #include "integrators/lighttracer/lighttracer.h"
 #include "integrators/mdlightcuts/mdlightcuts.h"
@@ -51,6 +52,10 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          "multidimensional Lightcuts: one cut through the product of a pixel's gather points and "
          "the light tree",
          make<MdLightcutsIntegrator>},
+        {"igi",
+         "instant global illumination, interleaved: each of n x m sub-buffers shaded by its own "
+         "share of the VPLs, blurred over continuous regions (the viewer's moving frames)",
+         make<IgiIntegrator>},
     };
     return table;
 }

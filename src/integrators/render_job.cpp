@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "camera/camera.h"
 #include "core/parallel.h"
@@ -30,11 +32,37 @@ std::string sampler_for_pbrt_name(const std::string& name, const FileLoc& loc) {
     throw_input_error(loc, "unknown sampler \"{}\"", name);
 }
 
-}  // namespace
+// Everything render_scene makes from the description and the options before the scene is built:
+// made first, so that bad settings are reported before the (long) build.
+struct RenderPlan {
+    int width = 0, height = 0, spp = 0;
+    float max_component = kInfinity, imaging_ratio = 1;
+    std::string name, sampler_name;
+    uint64_t seed = 0;
+    std::unique_ptr<Filter> filter;
+    std::optional<PerspectiveCamera> camera;
+    std::unique_ptr<Integrator> integrator;
+    std::unique_ptr<Sampler> sampler;
+    std::vector<std::string> warnings;
+    std::string output_hint;
+};
 
-RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
-    RenderOutput out;
-    RenderFigures& fig = out.figures;
+// The camera-to-world transform of RenderOptions::look_at: the scene's handedness (a
+// `Scale -1 1 1` before its LookAt) is kept.
+Transform look_at_camera(const std::array<float, 9>& v, const Transform& scene_world_to_camera) {
+    bool ok = false;
+    Transform world_to_camera =
+        Transform::look_at({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]}, &ok);
+    if (!ok)
+        throw UsageError(
+            "--look-at: the eye and the target must differ, and up must not be along the view");
+    if (scene_world_to_camera.swaps_handedness())
+        world_to_camera = Transform::scale({-1, 1, 1}) * world_to_camera;
+    return world_to_camera.inverse();
+}
+
+RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
+    RenderPlan plan;
 
     // Film: resolution from the scene unless overridden; a size that cannot fit is an error.
     const ParameterList& film_params = desc.film.params;
@@ -50,7 +78,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
         throw_input_error(desc.film.loc,
                           "resolution {}x{} is too large (at most 2^27 pixels, 65536 a side)",
                           width, height);
-    fig.output_hint = film_params.get_string("filename", "");
+    plan.output_hint = film_params.get_string("filename", "");
     float max_component = film_params.get_float("maxcomponentvalue", kInfinity);
     film_params.get_bool("savefp16", true);
     film_params.get_float("diagonal", 35.f);
@@ -100,7 +128,11 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     if (!desc.camera.name.empty() && desc.camera.name != "perspective")
         throw_input_error(desc.camera.loc, "unsupported camera \"{}\" (perspective is)",
                           desc.camera.name);
-    PerspectiveCamera camera(desc.camera.params, desc.camera_to_world(), width, height);
+    // --look-at places a still camera; otherwise the scene's, moving if it does.
+    AnimatedTransform camera_to_world =
+        opt.look_at ? AnimatedTransform(look_at_camera(*opt.look_at, desc.world_to_camera))
+                    : desc.camera_to_world();
+    plan.camera.emplace(desc.camera.params, camera_to_world, width, height);
     desc.camera.params.check_unused();
 
     // Integrator: the command line's, else the scene's where we have it, else path.
@@ -108,7 +140,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     std::string name = opt.integrator;
     if (name.empty()) name = scene_integrator.empty() ? "path" : scene_integrator;
     if (opt.integrator.empty() && !desc.integrator.name.empty() && scene_integrator.empty())
-        fig.warnings.push_back(fmt::format(
+        plan.warnings.push_back(fmt::format(
             "{}: the scene asks for integrator \"{}\", which manylight does not have; rendering "
             "with \"path\" (its parameters but maxdepth are ignored)",
             desc.integrator.loc.to_string(), desc.integrator.name));
@@ -131,22 +163,37 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     auto integrator = info->create(settings);
     settings.check_unused();
 
-    auto sampler = create_sampler(sampler_name, spp, seed);
+    plan.sampler = create_sampler(sampler_name, spp, seed);
+    plan.width = width;
+    plan.height = height;
+    plan.spp = spp;
+    plan.max_component = max_component;
+    plan.imaging_ratio = imaging_ratio;
+    plan.name = name;
+    plan.sampler_name = sampler_name;
+    plan.seed = seed;
+    plan.filter = std::move(filter);
+    plan.integrator = std::move(integrator);
+    return plan;
+}
 
-    // Threads, scene build, render.
-    int threads = opt.threads > 0 ? opt.threads : default_thread_count();
+// Renders the plan on the built scene.
+RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions& opt,
+                      RenderOutput out) {
+    RenderFigures& fig = out.figures;
+    const int width = plan.width, height = plan.height,
+              threads = opt.threads > 0 ? opt.threads : default_thread_count();
+    const std::string& name = plan.name;
     ThreadLimit limit(threads);
-    auto t_build = std::chrono::steady_clock::now();
-    Scene scene(std::move(desc));
-    scene.set_shutter(camera.shutter_open(), camera.shutter_close());
-    fig.seconds_build = seconds_since(t_build);
-
-    Film film(width, height, max_component, imaging_ratio);
+    Film film(width, height, plan.max_component, plan.imaging_ratio);
     Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
-    RenderContext ctx{scene, camera, *filter, film, *sampler, spp, opt.time_limit, &progress, seed};
+    RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,     *plan.sampler,
+                      plan.spp, opt.time_limit, &progress,    plan.seed};
+    ctx.cancel = opt.cancel;
+    RenderResult result;
     stats::reset();
     auto t_render = std::chrono::steady_clock::now();
-    RenderResult result = integrator->render(ctx);
+    result = plan.integrator->render(ctx);
     fig.seconds_render = seconds_since(t_render);
     progress.done();
     stats::RayCounts rays = stats::total();
@@ -167,7 +214,7 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
             fig.pixels_without_samples, size_t(width) * height));
     }
     fig.integrator = name;
-    fig.sampler = sampler_name;
+    fig.sampler = plan.sampler_name;
     fig.spp = result.spp;
     fig.width = width;
     fig.height = height;
@@ -187,6 +234,35 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     out.aovs = std::move(result.aovs);
     out.debug_images = std::move(result.debug_images);
     return out;
+}
+
+}  // namespace
+
+RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
+    RenderPlan plan = make_plan(desc, opt);
+    RenderOutput out;
+    out.figures.warnings = std::move(plan.warnings);
+    out.figures.output_hint = plan.output_hint;
+    int threads = opt.threads > 0 ? opt.threads : default_thread_count();
+    double build = 0;
+    std::unique_ptr<Scene> scene;
+    {
+        ThreadLimit limit(threads);
+        auto t_build = std::chrono::steady_clock::now();
+        scene = std::make_unique<Scene>(std::move(desc));
+        scene->set_shutter(plan.camera->shutter_open(), plan.camera->shutter_close());
+        build = seconds_since(t_build);
+    }
+    out.figures.seconds_build = build;
+    return run_plan(plan, *scene, opt, std::move(out));
+}
+
+RenderOutput render_built_scene(const Scene& scene, const RenderOptions& opt) {
+    RenderPlan plan = make_plan(scene.desc(), opt);
+    RenderOutput out;
+    out.figures.warnings = std::move(plan.warnings);
+    out.figures.output_hint = plan.output_hint;
+    return run_plan(plan, scene, opt, std::move(out));
 }
 
 nlohmann::json RenderFigures::to_json() const {

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -13,6 +15,10 @@
 
 #include "film/image.h"
 #include "scene/scene_desc.h"
+
+namespace ml {
+class Scene;
+}
 
 namespace ml {
 
@@ -27,6 +33,10 @@ struct RenderOptions {
     double time_limit = 0;                   // seconds; > 0 renders progressively until spent
     std::map<std::string, std::string> set;  // --set NAME.KEY=VALUE
     bool progress = false;                   // draw a progress bar on a terminal
+    // --look-at: eye, target and up (as the scene's LookAt) instead of the scene's camera.
+    std::optional<std::array<float, 9>> look_at;
+    // When set and true, the render stops starting work (the viewer drops a view it left).
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct RenderFigures {
@@ -57,5 +67,10 @@ struct RenderOutput {
 // Renders a parsed scene. Throws InputError for bad scene settings and UsageError for bad
 // options. `seconds_load` is left for the caller to fill in.
 RenderOutput render_scene(SceneDesc desc, const RenderOptions& options);
+
+// The same on a scene already built (the viewer renders many views of one scene): the film,
+// sampler, camera and integrator are made from scene.desc() and `options` as render_scene makes
+// them, so the image is the one `render` gives with the same options. seconds_build stays 0.
+RenderOutput render_built_scene(const Scene& scene, const RenderOptions& options);
 
 }  // namespace ml

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -41,8 +42,15 @@ struct RenderContext {
     double elapsed() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
-    // True once a time limit is spent: loops stop starting work then.
-    bool out_of_time() const { return time_limit > 0 && elapsed() >= time_limit; }
+    // Set and true: the render is abandoned (the viewer left the view); loops stop as at the
+    // end of a time limit.
+    const std::atomic<bool>* cancel = nullptr;
+
+    // True once a time limit is spent, or the render cancelled: loops stop starting work then.
+    bool out_of_time() const {
+        return (cancel && cancel->load(std::memory_order_relaxed)) ||
+               (time_limit > 0 && elapsed() >= time_limit);
+    }
 };
 
 struct RenderResult {

@@ -1,0 +1,87 @@
+// `manylight view scene.pbrt`: look around a scene in the browser before rendering it.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "commands.h"
+#include "core/parallel.h"
+#include "options.h"
+#include "scene/scene.h"
+#include "view_renderer.h"
+#include "view_server.h"
+
+namespace ml {
+
+namespace {
+
+// The viewer's default size: the scene's film, halved until it is at most 640 pixels wide.
+constexpr int kDefaultViewWidth = 640;
+
+}  // namespace
+
+void add_view_command(CLI::App& app, ViewArgs& a) {
+    CLI::App* v = app.add_subcommand(
+        "view", "look around a scene in the browser: igi frames while moving, then refined");
+    v->add_option("scene", a.scene, "scene file (.pbrt)")->required();
+    v->add_option("--bind", a.bind, "address to listen on (default 127.0.0.1: this machine only)");
+    v->add_option("--port", a.port, "port (default 8080; 0: any free port)")
+        ->check(CLI::Range(0, 65535));
+    v->add_option("--resolution", a.resolution,
+                  "view size WxH (default: the scene's, halved to at most 640 wide)")
+        ->check(image_size());
+    v->add_option("--integrator", a.integrator,
+                  "the integrator the view refines with at rest: path, lightcuts or mdlightcuts")
+        ->check(one_of(ViewRenderer::refine_integrators(), "integrator"));
+    v->add_option("--spp", a.spp, "samples per pixel the refinement stops at (default 64)")
+        ->check(positive_integer());
+    v->add_option("--threads", a.threads, "threads (default: all cores)")
+        ->check(positive_integer());
+    v->add_option("--set", a.set, "setting of the refining integrator NAME.KEY=VALUE (repeatable)")
+        ->allow_extra_args(false)
+        ->check(setting());
+    v->add_option("--output-dir", a.output_dir, "where Save EXR writes view-NNN.exr (default: .)")
+        ->check(CLI::ExistingDirectory);
+    v->add_option("--exit-after", a.exit_after, "stop by itself after this many seconds (tests)")
+        ->check(positive_seconds());
+}
+
+int run_view(const ViewArgs& a) {
+    SceneDesc desc = parse_scene_file(a.scene);
+    ViewConfig config;
+    config.scene_path = a.scene;
+    config.threads = a.threads;
+    config.save_dir = a.output_dir;
+    config.spp = a.spp > 0 ? a.spp : 64;
+    config.integrator = a.integrator.empty() ? "path" : a.integrator;
+    for (const std::string& kv : a.set) {
+        size_t eq = kv.find('=');
+        config.set[kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+    if (!a.resolution.empty()) {
+        std::sscanf(a.resolution.c_str(), "%dx%d", &config.width, &config.height);
+    } else {
+        config.width = desc.film.params.get_int("xresolution", 1280);
+        config.height = desc.film.params.get_int("yresolution", 720);
+        while (config.width > kDefaultViewWidth && config.width % 2 == 0 &&
+               config.height % 2 == 0) {
+            config.width /= 2;
+            config.height /= 2;
+        }
+    }
+    std::unique_ptr<Scene> scene;
+    {
+        ThreadLimit limit(a.threads > 0 ? a.threads : default_thread_count());
+        scene = std::make_unique<Scene>(std::move(desc));
+    }
+    ViewRenderer renderer(*scene, config);
+    ViewServerOptions server;
+    server.bind = a.bind;
+    server.port = a.port;
+    server.exit_after = a.exit_after;
+    serve_viewer(renderer, server);
+    return 0;
+}
+
+}  // namespace ml
