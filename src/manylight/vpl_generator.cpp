@@ -253,23 +253,27 @@ RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos, boo
     return best * 2.f;
 }
 
+void append_scaled_vpl(const PointLight& pl, const std::vector<VplSurface>& surfaces, float scale,
+                       std::vector<PointLight>& lights, std::vector<VplSurface>& out_surfaces) {
+    PointLight scaled = pl;
+    scaled.intensity = pl.intensity * scale;
+    if (pl.surface >= 0) {
+        VplSurface s = surfaces[size_t(pl.surface)];
+        s.flux = s.flux * scale;
+        scaled.surface = int32_t(out_surfaces.size());
+        out_surfaces.push_back(s);
+    }
+    lights.push_back(scaled);
+}
+
 void append_vpls(std::vector<VplChunk>& chunks, size_t count, float scale, PointLightSet& set) {
     set.lights.reserve(set.lights.size() + count);
     size_t left = count;
     for (VplChunk& ch : chunks) {
         if (left == 0) break;
         size_t take = std::min(left, ch.lights.size());
-        for (size_t i = 0; i < take; ++i) {
-            PointLight pl = ch.lights[i];
-            pl.intensity = pl.intensity * scale;
-            if (pl.surface >= 0) {
-                VplSurface s = ch.surfaces[size_t(pl.surface)];
-                s.flux = s.flux * scale;
-                pl.surface = int32_t(set.surfaces.size());
-                set.surfaces.push_back(s);
-            }
-            set.lights.push_back(pl);
-        }
+        for (size_t i = 0; i < take; ++i)
+            append_scaled_vpl(ch.lights[i], ch.surfaces, scale, set.lights, set.surfaces);
         if (ch.arena) set.arenas.push_back(std::move(ch.arena));
         left -= take;
     }

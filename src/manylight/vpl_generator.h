@@ -85,6 +85,10 @@ void deposit_vpl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta
                  VplChunk& chunk);
 // Appends the first `count` VPLs of `chunks` (in order) to set, fluxes times `scale`.
 void append_vpls(std::vector<VplChunk>& chunks, size_t count, float scale, PointLightSet& set);
+// Appends `pl` scaled by `scale` to `lights`, with its surface (if it has one, an index into
+// `surfaces`) copied into `out_surfaces` and scaled alike.
+void append_scaled_vpl(const PointLight& pl, const std::vector<VplSurface>& surfaces, float scale,
+                       std::vector<PointLight>& lights, std::vector<VplSurface>& out_surfaces);
 
 // An estimate of the largest BSDF value max_w f(w, wi) (times |cos(w, n)| when `with_cos`) over
 // every direction w, by evaluation at probe directions and a safety margin; used as the bound

@@ -285,15 +285,7 @@ void sample_metropolis_vpls(const Scene& scene, const PerspectiveCamera& camera,
         double P_measured = measured[i] / pilot_count, P_target = multiplicity[i] * Pc / double(n);
         if (!(P_measured > 0)) continue;  // the pilot sees none of its light: left out
         float scale = float(P_target / P_measured);
-        PointLight pl = out.lights[i];
-        pl.intensity = pl.intensity * scale;
-        if (pl.surface >= 0) {
-            VplSurface surface = out.surfaces[size_t(pl.surface)];
-            surface.flux = surface.flux * scale;
-            pl.surface = int32_t(kept.surfaces.size());
-            kept.surfaces.push_back(surface);
-        }
-        kept.lights.push_back(pl);
+        append_scaled_vpl(out.lights[i], out.surfaces, scale, kept.lights, kept.surfaces);
         total += P_target;
     }
     if (trace) {
