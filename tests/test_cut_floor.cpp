@@ -58,7 +58,7 @@ FloorRun render_with(const std::string& integrator, const std::string& floor) {
     FloorRun r{out.image};
     if (integrator != "vpl") {
         const nlohmann::json& s = out.figures.integrator_stats.at(integrator);
-        r.avg_cut = s.at(integrator == "lightcuts" ? "avg_cut_size" : "avg_cut_size").get<double>();
+        r.avg_cut = s.at("avg_cut_size").get<double>();
         r.floor_luminance = s.at("floor_luminance").get<double>();
     }
     return r;
