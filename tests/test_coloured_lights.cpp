@@ -240,7 +240,10 @@ std::vector<Case> cases() {
     return {
         {"lightcuts", {{"lightcuts.error", "0"}, {"lightcuts.max_cut", "24"}, {"vpl.clamp", "0"}}},
         {"lightcuts", {}},
-        {"mdlightcuts", {{"mdlightcuts.samples", "16"}}}};
+        {"mdlightcuts", {{"mdlightcuts.samples", "16"}}},
+        // Unbiased by construction, whatever the cut size and vpl.clamp; a small cut leaves the
+        // most to the descents.
+        {"stochasticlightcuts", {{"stochasticlightcuts.cut", "4"}}}};
 }
 
 const std::map<std::string, std::string> kPointLightsOnly = {{"vpl.count", "0"}};
