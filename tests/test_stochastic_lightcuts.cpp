@@ -38,17 +38,17 @@ std::vector<PointLight> mixed_lights(int n, uint64_t seed) {
 }
 
 // Every leaf below `node` with the product of the descent's probabilities down to it.
-void leaf_pmfs(const LightTree& tree, int32_t node, const ClusterView& view, double p,
-               std::vector<double>* out) {
+void leaf_pmfs(const LightTree& tree, const ClusterSampler& sampler, int32_t node,
+               const ClusterView& view, double p, std::vector<double>* out) {
     const LightTreeNode& n = tree.node(node);
     if (n.is_leaf()) {
         (*out)[size_t(n.light)] += p;
         return;
     }
-    float p0 = first_child_probability(tree, n, view);
+    float p0 = sampler.first_child_probability(node, view);
     if (p0 < 0) return;
-    leaf_pmfs(tree, n.children[0], view, p * p0, out);
-    leaf_pmfs(tree, n.children[1], view, p * (1 - p0), out);
+    leaf_pmfs(tree, sampler, n.children[0], view, p * p0, out);
+    leaf_pmfs(tree, sampler, n.children[1], view, p * (1 - p0), out);
 }
 
 // Whether light `pl` can give the point any light: it lies on the receiver's side (either side
@@ -64,6 +64,7 @@ bool can_light(const PointLight& pl, const ClusterView& view) {
 TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
     std::vector<PointLight> lights = mixed_lights(400, 3);
     LightTree tree(lights);
+    ClusterSampler sampler(tree);
     Rng rng(9);
     const int samples = 50000;
     int tests = 0;
@@ -82,7 +83,7 @@ TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
             };
             for (int32_t node : {root, below(root, 0), below(below(root, 1), 1)}) {
                 std::vector<double> pmf(lights.size(), 0.0), observed(lights.size(), 0.0);
-                leaf_pmfs(tree, node, view, 1.0, &pmf);
+                leaf_pmfs(tree, sampler, node, view, 1.0, &pmf);
                 double sum = 0;
                 for (double p : pmf) sum += p;
                 // Below 1 by the subtrees the descent cannot enter (no light there can light x:
@@ -107,7 +108,7 @@ TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
                 }
                 double failed = 0;
                 for (int i = 0; i < samples; ++i) {
-                    ClusterSample s = sample_cluster(tree, node, view, rng.next_float());
+                    ClusterSample s = sampler.sample(node, view, rng.next_float());
                     if (s.light < 0) {
                         failed += 1;
                         continue;
@@ -149,17 +150,24 @@ TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
     EXPECT_EQ(tests, 24);
 }
 
-// A light straight below a one-sided receiver, or an oriented light facing away, has no chance
-// and needs none; a cluster of only such lights cannot be descended.
+// Oriented lights facing away from the point cannot light it and get no chance; a cluster of
+// only such lights cannot be descended. Facing it, they can.
 TEST(StochasticLightcuts, ClustersThatCannotLightThePointAreNotDescended) {
     std::vector<PointLight> lights(2, PointLight{});
-    lights[0].p = Vec3(0, -1, 0), lights[0].intensity = RGB(1);
-    lights[1].p = Vec3(0.5f, -1, 0), lights[1].intensity = RGB(1, 0, 0);
-    LightTree tree(lights);
-    ClusterView up{Vec3(0, 0, 0), Vec3(0, 1, 0), false};
-    EXPECT_EQ(sample_cluster(tree, tree.root(PointLightKind::Omni), up, 0.3f).light, -1);
-    ClusterView two_sided{Vec3(0, 0, 0), Vec3(0, 1, 0), true};
-    ClusterSample s = sample_cluster(tree, tree.root(PointLightKind::Omni), two_sided, 0.3f);
+    for (int i = 0; i < 2; ++i) {
+        lights[size_t(i)].kind = PointLightKind::Oriented;
+        lights[size_t(i)].p = Vec3(0.5f * float(i), -1, 0);
+        lights[size_t(i)].n = Vec3(0, -1, 0);
+        lights[size_t(i)].intensity = i ? RGB(1, 0, 0) : RGB(1);
+    }
+    LightTree away(lights);
+    ClusterView view{Vec3(0, 0, 0), Vec3(0, 1, 0), true};
+    EXPECT_EQ(ClusterSampler(away).sample(away.root(PointLightKind::Oriented), view, 0.3f).light,
+              -1);
+    for (PointLight& pl : lights) pl.n = Vec3(0, 1, 0);
+    LightTree facing(lights);
+    ClusterSample s =
+        ClusterSampler(facing).sample(facing.root(PointLightKind::Oriented), view, 0.3f);
     EXPECT_GE(s.light, 0);
     EXPECT_GT(s.pmf, 0);
 }

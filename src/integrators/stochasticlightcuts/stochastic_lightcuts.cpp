@@ -20,6 +20,7 @@ StochasticLightcutsIntegrator::StochasticLightcutsIntegrator(const Settings& set
 void StochasticLightcutsIntegrator::prepare(const Scene& scene) {
     build_many_lights(scene, m_settings, &m_set, &m_direct);
     m_tree = build_light_tree(scene, m_settings, m_set, &m_tree_seconds);
+    m_sampler = ClusterSampler(m_tree);
 }
 
 RenderResult StochasticLightcutsIntegrator::render(const RenderContext& ctx) {
@@ -105,7 +106,7 @@ RGB StochasticLightcutsIntegrator::shade(const Scene& scene, const GatherPoint& 
     ClusterView view{x, face_forward(g.bsdf.frame().n, wo),
                      (g.bsdf.flags() & kBxdfTransmission) != 0};
     for (const Entry& e : heap) {
-        ClusterSample s = sample_cluster(m_tree, e.node, view, sampler.get_1d());
+        ClusterSample s = m_sampler.sample(e.node, view, sampler.get_1d());
         if (s.light >= 0 && s.pmf > 0) L += value(s.light) / s.pmf;
     }
     return L;

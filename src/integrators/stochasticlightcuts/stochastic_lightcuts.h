@@ -13,6 +13,7 @@
 #include <atomic>
 #include <vector>
 
+#include "manylight/cluster_sampling.h"
 #include "manylight/gather.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"
@@ -40,6 +41,7 @@ private:
     PointLightSet m_set;
     SampledDirectLight m_direct;
     LightTree m_tree;
+    ClusterSampler m_sampler;  // over m_tree
     double m_tree_seconds = 0;
     mutable std::atomic<uint64_t> m_cut_sum{0}, m_gather_points{0};
 };
