@@ -41,7 +41,11 @@ TEST(SphericalTriangle, SamplesHitTheTriangleAndInvert) {
         Rng rng(3);
         for (int i = 0; i < 2000; ++i) {
             Vec2 u = next2(rng);
-            auto w = sample_spherical_triangle(k.v0, k.v1, k.v2, k.p, u);
+            auto st = SphericalTriangle::make(k.v0, k.v1, k.v2, k.p);
+            ASSERT_TRUE(st);
+            EXPECT_NEAR(st->solid_angle(), spherical_triangle_solid_angle(k.v0, k.v1, k.v2, k.p),
+                        1e-6f);
+            auto w = st->sample(u);
             ASSERT_TRUE(w);
             // Through the triangle: the ray's barycentrics are all >= 0.
             Vec3 e1 = k.v1 - k.v0, e2 = k.v2 - k.v0, s1 = cross(*w, e2);
@@ -51,7 +55,7 @@ TEST(SphericalTriangle, SamplesHitTheTriangleAndInvert) {
             ASSERT_GE(b1, -1e-4f) << i;
             ASSERT_GE(b2, -1e-4f) << i;
             ASSERT_LE(b1 + b2, 1 + 1e-4f) << i;
-            Vec2 back = invert_spherical_triangle(k.v0, k.v1, k.v2, k.p, *w);
+            Vec2 back = st->invert(*w);
             ASSERT_NEAR(back.x, u.x, 1e-3f) << i << " " << u.y;
             ASSERT_NEAR(back.y, u.y, 1e-3f) << i << " " << u.x;
         }
@@ -102,17 +106,18 @@ TriangleMesh square_mesh(int cells = 0) {
     return m;
 }
 
-// The triangle of `mesh` containing q (on its plane), or -1.
-int triangle_at(const TriangleMesh& mesh, const Vec3& q) {
+// The triangles of `mesh` containing q (on its plane): two or more on a shared edge.
+std::vector<uint32_t> triangles_at(const TriangleMesh& mesh, const Vec3& q) {
+    std::vector<uint32_t> out;
     for (size_t t = 0; t < mesh.triangle_count(); ++t) {
         const uint32_t* idx = &mesh.indices[3 * t];
         Vec3 a = mesh.p[idx[0]], b = mesh.p[idx[1]], c = mesh.p[idx[2]];
         Vec3 n = cross(b - a, c - a);
         if (dot(cross(b - a, q - a), n) >= 0 && dot(cross(c - b, q - b), n) >= 0 &&
             dot(cross(a - c, q - c), n) >= 0)
-            return int(t);
+            out.push_back(uint32_t(t));
     }
-    return -1;
+    return out;
 }
 
 // Chi-square test of sample_li's points on the square against pdf_li (area density
@@ -120,7 +125,7 @@ int triangle_at(const TriangleMesh& mesh, const Vec3& q) {
 void check_square_light(const LightSampleContext& ctx, const char* what, int cells = 0) {
     TriangleMesh mesh = square_mesh(cells);
     auto light = make_diffuse_area_light(&mesh, RGB(1), false);
-    const int g = 16, k = 6, n = 300000;
+    const int g = 16, k = 8, n = 300000;
     std::vector<double> count(g * g, 0);
     Rng rng(11);
     int misses = 0;
@@ -151,14 +156,17 @@ void check_square_light(const LightSampleContext& ctx, const char* what, int cel
             double e = 0;
             for (int b = 0; b < k; ++b)
                 for (int a = 0; a < k; ++a) {
+                    // The density jumps across the triangles' shared edges: a point on one
+                    // (the diagonal's) takes the mean of the two sides, as the cell splits.
                     Vec3 q((i + (a + 0.5f) / k) / g, (j + (b + 0.5f) / k) / g, 1);
-                    int t = triangle_at(mesh, q);
-                    if (t < 0) continue;
+                    auto ts = triangles_at(mesh, q);
                     Vec3 d = q - ctx.p;
                     float d2 = length_squared(d);
                     Vec3 wi = d / std::sqrt(d2);
                     float cos_l = std::abs(wi.z);
-                    e += light->pdf_li(ctx, wi, q, {0, 0, -1}, uint32_t(t)) * cos_l / d2;
+                    for (uint32_t t : ts)
+                        e += light->pdf_li(ctx, wi, q, {0, 0, -1}, t) * cos_l / d2 /
+                             double(ts.size());
                 }
             expected[size_t(j * g + i)] = e / (k * k * g * g);
             total += expected[size_t(j * g + i)];

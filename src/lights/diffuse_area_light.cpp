@@ -1,6 +1,6 @@
 // Diffuse area lights over a whole triangle mesh. For next-event estimation a triangle is picked
-// (small meshes: by its solid angle and the receiver's cosine; large ones: by area, O(log n) in
-// the CDF), then a direction uniformly over the solid angle it subtends, warped towards the
+// (small meshes: by its estimated solid angle and the receiver's cosine; large ones: by area, O(log
+// n) in the CDF), then a direction uniformly over the solid angle it subtends, warped towards the
 // receiver's cosine (pbrt-v4's Triangle::Sample); where the triangle looks tiny or huge, a uniform
 // point on it. Paths leaving the light start at a uniform point, area density 1 / total area.
 #include "lights/lights.h"
@@ -55,8 +55,8 @@ public:
         // Seen from behind, a one-sided triangle sends nothing: no sample.
         if (!m_two_sided && dot(n, ctx.p - v[0]) <= 0) return std::nullopt;
         LightLiSample s;
-        float omega = spherical_triangle_solid_angle(v[0], v[1], v[2], ctx.p);
-        if (use_solid_angle(omega)) {
+        auto st = solid_angle_sampler(tri, v, ctx.p);
+        if (st) {
             Vec2 uu(ux, u.y);
             float pdf_warp = 1;
             if (ctx.ns != Vec3()) {
@@ -65,12 +65,12 @@ public:
                 uu = sample_bilinear(uu, w);
                 pdf_warp = pdf_bilinear_area(uu, w);
             }
-            auto dir = sample_spherical_triangle(v[0], v[1], v[2], ctx.p, uu);
+            auto dir = st->sample(uu);
             if (!dir) return std::nullopt;
             auto b = hit_barycentrics(v, ctx.p, *dir);
             if (!b) return std::nullopt;
             point_at(v, *b, &s.p_light, &s.p_error);
-            s.pdf_solid_angle = pmf_tri * pdf_warp / omega;
+            s.pdf_solid_angle = pmf_tri * pdf_warp / st->solid_angle();
         } else {
             point_at(v, sample_uniform_triangle({ux, u.y}), &s.p_light, &s.p_error);
         }
@@ -80,8 +80,7 @@ public:
         s.wi = d / std::sqrt(d2);
         float cos_l = -dot(n, s.wi);
         if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return std::nullopt;
-        if (!use_solid_angle(omega))
-            s.pdf_solid_angle = pmf_tri * d2 / (std::abs(cos_l) * m_mesh->triangle_area(tri));
+        if (!st) s.pdf_solid_angle = pmf_tri * d2 / (std::abs(cos_l) * m_mesh->triangle_area(tri));
         s.L = m_L;
         s.n_light = n;
         s.prim = uint32_t(tri);
@@ -94,19 +93,19 @@ public:
         if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return 0;
         Vec3 v[3];
         corners(prim, v);
-        float omega = spherical_triangle_solid_angle(v[0], v[1], v[2], ctx.p);
         float pmf_tri = triangle_pmf(ctx, prim);
         if (!(pmf_tri > 0)) return 0;
-        if (!use_solid_angle(omega))
+        auto st = solid_angle_sampler(prim, v, ctx.p);
+        if (!st)
             return pmf_tri * distance_squared(ctx.p, p_light) /
                    (std::abs(cos_l) * m_mesh->triangle_area(prim));
         float pdf_warp = 1;
         if (ctx.ns != Vec3()) {
             float w[4];
             cosine_weights(ctx, v, w);
-            pdf_warp = pdf_bilinear_area(invert_spherical_triangle(v[0], v[1], v[2], ctx.p, wi), w);
+            pdf_warp = pdf_bilinear_area(st->invert(wi), w);
         }
-        return pmf_tri * pdf_warp / omega;
+        return pmf_tri * pdf_warp / st->solid_angle();
     }
     RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const override {
         if (!m_two_sided && dot(n, w) <= 0) return RGB();
@@ -203,9 +202,9 @@ private:
         return Barycentrics{1 - b1 - b2, b1, b2};
     }
     // The triangle for a sample at ctx, with its probability; u_remapped receives u rescaled
-    // inside its share. Small meshes (a quad, a box) choose in proportion to each triangle's
-    // solid angle at ctx times the mean of the receiver's cosine at its corners, which evens the
-    // density over the whole light; larger meshes by area (per-receiver weights cost O(n)).
+    // inside its share. Small meshes (a quad, a box) choose in proportion to an estimate of each
+    // triangle's solid angle at ctx times the receiver's cosine, which evens the density over
+    // the whole light; larger meshes by area (per-receiver weights cost O(n)).
     static constexpr size_t kPerReceiverChoice = 16;
     size_t choose_triangle(const LightSampleContext& ctx, float u, float* pmf,
                            float* u_remapped) const {
@@ -236,31 +235,49 @@ private:
         float sum = receiver_importances(ctx, imp);
         return sum > 0 ? imp[tri] / sum : 0.f;
     }
-    // Each triangle's weight at ctx (small meshes): zero where it has no area or shows ctx its
-    // back (one-sided), else its solid angle times the mean corner cosine; returns the sum.
+    // Each triangle's weight at ctx (small meshes), returning the sum: zero where it shows ctx
+    // its back (one-sided), else its estimated solid angle times the receiver's cosine towards
+    // its centroid, floored so that no part of a triangle that rises above the horizon goes
+    // unsampled.
     float receiver_importances(const LightSampleContext& ctx, float* imp) const {
         float sum = 0;
         for (size_t t = 0; t < m_mesh->triangle_count(); ++t) {
             imp[t] = 0;
-            if (!(m_tri.pmf(t) > 0)) continue;
             Vec3 v[3];
             corners(t, v);
             if (!m_two_sided && dot(m_mesh->triangle_normal(t), ctx.p - v[0]) <= 0) continue;
-            float c = 1;
-            if (ctx.ns != Vec3()) {
-                float w[4];
-                cosine_weights(ctx, v, w);
-                c = (w[0] + w[2] + w[3]) / 3;
-            }
-            imp[t] = spherical_triangle_solid_angle(v[0], v[1], v[2], ctx.p) * c;
-            sum += imp[t];
+            Vec3 dir;
+            float w = estimated_solid_angle(t, v, ctx.p, &dir);
+            if (ctx.ns != Vec3() && dir != Vec3()) w *= std::max(0.1f, dot(ctx.ns, dir));
+            imp[t] = w;
+            sum += w;
         }
         return sum;
     }
-    // Solid-angle sampling pays where a triangle looks large; where it looks tiny its rounding
-    // outweighs the gain, and near a whole hemisphere it is unstable: area sampling there
-    // (pbrt-v4's limits). Sampling and pdf_li decide alike from the same solid angle.
-    static bool use_solid_angle(float omega) { return omega >= 3e-4f && omega <= 6.22f; }
+    // Triangle tri's solid angle at p estimated from its centroid (area |cos| / d^2, at most a
+    // hemisphere; zero for no area): no trigonometry. `dir` receives the unit direction to the
+    // centroid (zero if p is on it).
+    float estimated_solid_angle(size_t tri, const Vec3 v[3], const Vec3& p, Vec3* dir) const {
+        float area = m_tri.func()[tri];
+        *dir = Vec3();
+        if (!(area > 0)) return 0;
+        Vec3 d = (v[0] + v[1] + v[2]) / 3.f - p;
+        float d2 = length_squared(d);
+        if (!(d2 > 0)) return 2 * kPi;
+        *dir = d / std::sqrt(d2);
+        return std::min(2 * kPi, area * std::abs(dot(m_mesh->triangle_normal(tri), *dir)) / d2);
+    }
+    // Solid-angle sampling pays where a triangle looks large: where it looks small (under
+    // 0.05 sr, a 13-degree cone) 1 / d^2 and the cosines hardly vary over it and the cheaper
+    // area sampling does as well; near a whole hemisphere it is unstable. Sampling and pdf_li
+    // decide alike, from the estimate; the spherical triangle when by solid angle.
+    std::optional<SphericalTriangle> solid_angle_sampler(size_t tri, const Vec3 v[3],
+                                                         const Vec3& p) const {
+        Vec3 dir;
+        float omega = estimated_solid_angle(tri, v, p, &dir);
+        if (!(omega >= 0.05f && omega <= 6.2f)) return std::nullopt;
+        return SphericalTriangle::make(v[0], v[1], v[2], p);
+    }
     // The receiver's cosine towards the corners, as bilinear weights over the spherical
     // triangle's square (u.y = 0 is corner 1; at u.y = 1, u.x runs from corner 0 to corner 2),
     // floored so that no part of the triangle goes unsampled.

@@ -32,37 +32,17 @@ D3 normalized(const D3& a) {
     return l > 0 ? a * (1 / l) : D3{};
 }
 
-// Angle between unit vectors, accurate near 0 and pi.
-double angle_between(const D3& v1, const D3& v2) {
-    if (dot(v1, v2) < 0) return M_PI - 2 * std::asin(std::min(1.0, length(v1 + v2) / 2));
-    return 2 * std::asin(std::min(1.0, length(v2 - v1) / 2));
-}
-
 // The solid angle of the spherical triangle with unit corners a, b, c (Van Oosterom and
 // Strackee).
 double unit_solid_angle(const D3& a, const D3& b, const D3& c) {
     return std::abs(2 * std::atan2(dot(a, cross(b, c)), 1 + dot(a, b) + dot(a, c) + dot(b, c)));
 }
 
-struct SphericalTriangle {
-    D3 a, b, c;
-    double alpha = 0, area = 0;
-};
-
-// The corners as unit vectors, the angle at a and the area; none if degenerate from p.
-std::optional<SphericalTriangle> spherical_triangle(const Vec3& v0, const Vec3& v1, const Vec3& v2,
-                                                    const Vec3& p) {
-    SphericalTriangle t;
-    D3 o = to_d3(p);
-    t.a = normalized(to_d3(v0) - o);
-    t.b = normalized(to_d3(v1) - o);
-    t.c = normalized(to_d3(v2) - o);
-    D3 n_ab = normalized(cross(t.a, t.b)), n_ca = normalized(cross(t.c, t.a));
-    if (length(n_ab) == 0 || length(n_ca) == 0 || length(cross(t.b, t.c)) == 0) return std::nullopt;
-    t.alpha = angle_between(n_ab, -n_ca);
-    t.area = unit_solid_angle(t.a, t.b, t.c);
-    if (!(t.area > 0) || !std::isfinite(t.area)) return std::nullopt;
-    return t;
+D3 load(const double v[3]) { return {v[0], v[1], v[2]}; }
+void store(const D3& d, double v[3]) {
+    v[0] = d.x;
+    v[1] = d.y;
+    v[2] = d.z;
 }
 
 // v minus its component along unit w, normalised; zero when v is along w.
@@ -85,44 +65,61 @@ float spherical_triangle_solid_angle(const Vec3& v0, const Vec3& v1, const Vec3&
     return std::isfinite(omega) ? float(omega) : 0.f;
 }
 
-std::optional<Vec3> sample_spherical_triangle(const Vec3& v0, const Vec3& v1, const Vec3& v2,
-                                              const Vec3& p, Vec2 u) {
-    auto t = spherical_triangle(v0, v1, v2, p);
-    if (!t) return std::nullopt;
-    // The sub-triangle's area A' = u.x A, through its angle sum A' + pi (Arvo's phi).
-    double ap_pi = M_PI + double(u.x) * t->area;
-    double cos_alpha = std::cos(t->alpha), sin_alpha = std::sin(t->alpha);
-    double sin_phi = std::sin(ap_pi) * cos_alpha - std::cos(ap_pi) * sin_alpha;
-    double cos_phi = std::cos(ap_pi) * cos_alpha + std::sin(ap_pi) * sin_alpha;
+std::optional<SphericalTriangle> SphericalTriangle::make(const Vec3& v0, const Vec3& v1,
+                                                         const Vec3& v2, const Vec3& p) {
+    SphericalTriangle t;
+    D3 o = to_d3(p);
+    D3 a = normalized(to_d3(v0) - o), b = normalized(to_d3(v1) - o), c = normalized(to_d3(v2) - o);
+    D3 n_ab = normalized(cross(a, b)), n_ac = normalized(cross(a, c));
+    if (length(n_ab) == 0 || length(n_ac) == 0 || length(cross(b, c)) == 0) return std::nullopt;
+    // The angle at a, between the great circles a-b and a-c: its cosine and sine, each accurate
+    // where the other is not.
+    t.m_cos_alpha = dot(n_ab, n_ac);
+    t.m_sin_alpha = length(cross(n_ab, n_ac));
+    t.m_area = unit_solid_angle(a, b, c);
+    if (!(t.m_area > 0) || !std::isfinite(t.m_area)) return std::nullopt;
+    store(a, t.m_a);
+    store(b, t.m_b);
+    store(c, t.m_c);
+    return t;
+}
+
+std::optional<Vec3> SphericalTriangle::sample(Vec2 u) const {
+    D3 a = load(m_a), b = load(m_b), c = load(m_c);
+    // The sub-triangle's area A' = u.x A, through its angle sum A' + pi (Arvo's phi):
+    // sin(A' + pi) = -sin A', cos(A' + pi) = -cos A'.
+    double ap = double(u.x) * m_area;
+    double sin_ap = -std::sin(ap), cos_ap = -std::cos(ap);
+    double cos_alpha = m_cos_alpha, sin_alpha = m_sin_alpha;
+    double sin_phi = sin_ap * cos_alpha - cos_ap * sin_alpha;
+    double cos_phi = cos_ap * cos_alpha + sin_ap * sin_alpha;
     double k1 = cos_phi + cos_alpha;
-    double k2 = sin_phi - sin_alpha * dot(t->a, t->b);
+    double k2 = sin_phi - sin_alpha * dot(a, b);
     double denom = (k2 * sin_phi + k1 * cos_phi) * sin_alpha;
     double cos_bp = denom != 0 ? (k2 + (k2 * cos_phi - k1 * sin_phi) * cos_alpha) / denom : 1.0;
     cos_bp = std::clamp(cos_bp, -1.0, 1.0);
     double sin_bp = std::sqrt(std::max(0.0, 1 - cos_bp * cos_bp));
-    D3 cp = t->a * cos_bp + orthogonal_part(t->c, t->a) * sin_bp;
+    D3 cp = a * cos_bp + orthogonal_part(c, a) * sin_bp;
     // Along the arc from b to c', uniform in the sub-triangle's area.
-    double cos_theta = 1 - double(u.y) * (1 - dot(cp, t->b));
+    double cos_theta = 1 - double(u.y) * (1 - dot(cp, b));
     double sin_theta = std::sqrt(std::max(0.0, 1 - cos_theta * cos_theta));
-    D3 w = normalized(t->b * cos_theta + orthogonal_part(cp, t->b) * sin_theta);
+    D3 w = normalized(b * cos_theta + orthogonal_part(cp, b) * sin_theta);
     if (length(w) == 0) return std::nullopt;
     Vec3 wf(float(w.x), float(w.y), float(w.z));
     return wf / ml::length(wf);
 }
 
-Vec2 invert_spherical_triangle(const Vec3& v0, const Vec3& v1, const Vec3& v2, const Vec3& p,
-                               const Vec3& w_in) {
-    auto t = spherical_triangle(v0, v1, v2, p);
-    if (!t) return {0.5f, 0.5f};
+Vec2 SphericalTriangle::invert(const Vec3& w_in) const {
+    D3 a = load(m_a), b = load(m_b), c = load(m_c);
     D3 w = normalized(to_d3(w_in));
     // c' is where the great circle through b and w meets the arc from a to c.
-    D3 cp = normalized(cross(cross(t->b, w), cross(t->c, t->a)));
+    D3 cp = normalized(cross(cross(b, w), cross(c, a)));
     if (length(cp) == 0) return {0.5f, 0.5f};
-    if (dot(cp, t->a + t->c) < 0) cp = -cp;
+    if (dot(cp, a + c) < 0) cp = -cp;
     // u.x: the sub-triangle (a, b, c')'s share of the area, by the robust formula.
-    double u0 = unit_solid_angle(t->a, t->b, cp) / t->area;
+    double u0 = unit_solid_angle(a, b, cp) / m_area;
     // u.y = (1 - cos theta) / (1 - cos theta'), with 1 - cos x = |chord|^2 / 2 (no cancellation).
-    D3 bw = w - t->b, bc = cp - t->b;
+    D3 bw = w - b, bc = cp - b;
     double d = dot(bc, bc);
     double u1 = d > 0 ? dot(bw, bw) / d : 0.0;
     return {std::clamp(float(u0), 0.f, 1.f), std::clamp(float(u1), 0.f, 1.f)};
