@@ -40,8 +40,9 @@ int main(int argc, char** argv) {
         if (world && world->size() > 1) {
             const std::string prefix = ml::kMessagePrefix;
             if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
-            world->abort(fmt::format("manylight (rank {} of {}): {}", world->rank(), world->size(),
-                                     message));
+            world->abort(
+                fmt::format("manylight (rank {} of {}): {}", world->rank(), world->size(), message),
+                code);
         }
         std::fflush(stdout);
         std::cerr << message << "\n";

@@ -5,10 +5,10 @@
 
 namespace ml {
 
-void LocalWorld::abort(const std::string& message) {
+void LocalWorld::abort(const std::string& message, int code) {
     std::fprintf(stderr, "%s\n", message.c_str());
     std::fflush(stderr);
-    std::_Exit(1);
+    std::_Exit(code);
 }
 
 World& local_world() {

@@ -34,9 +34,9 @@ public:
     virtual std::vector<double> gather(double v) = 0;
     // Waits until every rank has come here.
     virtual void barrier() = 0;
-    // Ends every rank's process with `message` on this rank's stderr (MPI_Abort): an error on
-    // one rank must not leave the others waiting in a collective.
-    [[noreturn]] virtual void abort(const std::string& message) = 0;
+    // Ends every rank's process with `message` on this rank's stderr and exit code `code`
+    // (MPI_Abort): an error on one rank must not leave the others waiting in a collective.
+    [[noreturn]] virtual void abort(const std::string& message, int code) = 0;
 
     // Rank 0's decision, on every rank (e.g. "the time limit is spent"): a broadcast.
     bool root_decides(bool v) {
@@ -67,7 +67,7 @@ public:
     void broadcast(void*, size_t) override {}
     std::vector<double> gather(double v) override { return {v}; }
     void barrier() override {}
-    [[noreturn]] void abort(const std::string& message) override;
+    [[noreturn]] void abort(const std::string& message, int code) override;
 };
 
 // The one process's world, for renders that are not given one.

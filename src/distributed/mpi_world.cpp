@@ -64,11 +64,11 @@ public:
         return all;
     }
     void barrier() override { MPI_Barrier(MPI_COMM_WORLD); }
-    [[noreturn]] void abort(const std::string& message) override {
+    [[noreturn]] void abort(const std::string& message, int code) override {
         std::fprintf(stderr, "%s\n", message.c_str());
         std::fflush(stderr);
-        MPI_Abort(MPI_COMM_WORLD, 1);
-        std::_Exit(1);  // MPI_Abort does not return; should it, this process still ends
+        MPI_Abort(MPI_COMM_WORLD, code);
+        std::_Exit(code);  // MPI_Abort does not return; should it, this process still ends
     }
 
 private:
