@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/world.h"
+
 namespace ml {
 
 struct RenderArgs {
@@ -19,7 +21,9 @@ struct RenderArgs {
     bool quiet = false;
 };
 void add_render_command(CLI::App& app, RenderArgs& args);
-int run_render(const RenderArgs& args);
+// Under mpirun, `world` holds the ranks: every rank renders its share, rank 0 writes the image,
+// --stats and the summary.
+int run_render(const RenderArgs& args, World& world);
 
 struct DiffArgs {
     std::string a, b;

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "distributed/mpi_world.h"
 #include "options.h"
 
 int main(int argc, char** argv) {
@@ -32,21 +33,37 @@ int main(int argc, char** argv) {
         int code = app.exit(e);
         return code == 0 ? 0 : 2;
     }
+    // Under mpirun (render only): an error on any rank ends every rank (MPI_Abort) with its
+    // message, rather than leaving the others waiting for it in a collective.
+    ml::World* world = nullptr;
+    auto fail = [&](std::string message, int code) {
+        if (world && world->size() > 1) {
+            const std::string prefix = ml::kMessagePrefix;
+            if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+            world->abort(
+                fmt::format("manylight (rank {} of {}): {}", world->rank(), world->size(), message),
+                code);
+        }
+        std::fflush(stdout);
+        std::cerr << message << "\n";
+        return code;
+    };
     try {
-        if (app.got_subcommand("render")) return ml::run_render(render_args);
+        if (app.got_subcommand("render")) {
+            world = &ml::process_world(&argc, &argv);
+            return ml::run_render(render_args, *world);
+        }
+        if (ml::launched_ranks() > 1)
+            throw ml::UsageError("only `manylight render` runs under mpirun");
         if (app.got_subcommand("diff")) return ml::run_diff(diff_args);
         if (app.got_subcommand("info")) return ml::run_info(info_args);
         if (app.got_subcommand("view")) return ml::run_view(view_args);
     } catch (const ml::InputError& e) {
-        std::fflush(stdout);
-        std::cerr << e.formatted() << "\n";
-        return 1;
+        return fail(e.formatted(), 1);
     } catch (const ml::UsageError& e) {
-        std::cerr << ml::kMessagePrefix << e.what() << "\n";
-        return 2;
+        return fail(std::string(ml::kMessagePrefix) + e.what(), 2);
     } catch (const std::exception& e) {
-        std::cerr << ml::kMessagePrefix << e.what() << "\n";
-        return 1;
+        return fail(std::string(ml::kMessagePrefix) + e.what(), 1);
     }
     return 2;
 }

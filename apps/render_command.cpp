@@ -73,8 +73,9 @@ std::string f_name(const RenderOutput& out) { return out.figures.integrator; }
 
 }  // namespace
 
-int run_render(const RenderArgs& a) {
+int run_render(const RenderArgs& a, World& world) {
     RenderOptions o;
+    o.world = &world;
     o.integrator = a.integrator;
     if (a.spp > 0) o.spp = a.spp;
     if (a.max_depth >= 0) o.max_depth = a.max_depth;
@@ -113,6 +114,8 @@ int run_render(const RenderArgs& a) {
         throw UsageError("output " + output + ": use .exr, .png or .pfm");
 
     RenderOutput out = render_scene(std::move(desc), o);
+    // Across ranks only rank 0 holds the whole image and figures; the others write nothing.
+    if (!world.root()) return 0;
     out.figures.seconds_load = load;
     struct rusage usage {};
     if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;

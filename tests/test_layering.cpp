@@ -23,23 +23,24 @@ namespace {
 // THE LAYER TABLE, lowest first: a folder may include its own files and those of folders in
 // lower layers. Folders in the same layer do not include each other.
 const std::vector<std::vector<std::string>> kLayers = {
-    {"core"},                 // math, colour, errors, assertions, parameters, threads
-    {"sampling"},             // samplers and warps
-    {"geometry"},             // meshes, shapes, Embree
-    {"camera", "film"},       // rays from the lens; pixels, filters, images
-    {"materials"},            // BSDFs and textures
-    {"lights"},               // light sources and what they become as point lights
-    {"scene"},                // pbrt-v4 parsing and the assembled scene
-    {"render", "transport"},  // the integrator interface and render loop; light transport
-    {"bidir", "manylight"},   // bidirectional paths; point-light sets, trees, gathering
-    {"integrators"},          // the algorithms, the registry and the render job
-    {"apps"},                 // the command line
+    {"core"},                     // math, colour, errors, assertions, parameters, threads
+    {"sampling", "distributed"},  // samplers and warps; MPI's world (mpirun's ranks)
+    {"geometry"},                 // meshes, shapes, Embree
+    {"camera", "film"},           // rays from the lens; pixels, filters, images
+    {"materials"},                // BSDFs and textures
+    {"lights"},                   // light sources and what they become as point lights
+    {"scene"},                    // pbrt-v4 parsing and the assembled scene
+    {"render", "transport"},      // the integrator interface and render loop; light transport
+    {"bidir", "manylight"},       // bidirectional paths; point-light sets, trees, gathering
+    {"integrators"},              // the algorithms, the registry and the render job
+    {"apps"},                     // the command line
 };
 
 // Libraries wrapped in one place: (include prefix, the files that may include it).
 const std::vector<std::pair<std::string, std::set<std::string>>> kWrappedLibraries = {
     {"embree3/", {"src/geometry/embree_scene.cpp"}},
     {"tbb/", {"src/core/parallel.h"}},
+    {"mpi.h", {"src/distributed/mpi_world.cpp"}},
 };
 
 struct Include {

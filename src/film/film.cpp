@@ -20,6 +20,39 @@ void Film::clear() {
     m_nonfinite.store(0, std::memory_order_relaxed);
 }
 
+void Film::reduce_to_root(World& world) {
+    if (world.size() == 1) return;
+    bool any_sample = false, any_splat = false;
+    for (const Pixel& p : m_pixels) any_sample = any_sample || p.weight != 0;
+    for (const auto& s : m_splats) any_splat = any_splat || s.load(std::memory_order_relaxed) != 0;
+    if (world.all_sum(any_sample ? 1 : 0) > 0) {
+        std::vector<double> sums(m_pixels.size() * 4);
+        for (size_t i = 0; i < m_pixels.size(); ++i) {
+            const Pixel& p = m_pixels[i];
+            double* d = &sums[i * 4];
+            d[0] = p.rgb[0], d[1] = p.rgb[1], d[2] = p.rgb[2], d[3] = p.weight;
+        }
+        world.reduce_sum(sums.data(), sums.size());
+        if (world.root())
+            for (size_t i = 0; i < m_pixels.size(); ++i) {
+                Pixel& p = m_pixels[i];
+                const double* d = &sums[i * 4];
+                p.rgb[0] = d[0], p.rgb[1] = d[1], p.rgb[2] = d[2], p.weight = d[3];
+            }
+    }
+    if (world.all_sum(any_splat ? 1 : 0) > 0) {
+        std::vector<float> splats(m_splats.size());
+        for (size_t i = 0; i < splats.size(); ++i)
+            splats[i] = m_splats[i].load(std::memory_order_relaxed);
+        world.reduce_sum(splats.data(), splats.size());
+        if (world.root())
+            for (size_t i = 0; i < splats.size(); ++i)
+                m_splats[i].store(splats[i], std::memory_order_relaxed);
+    }
+    uint64_t dropped = uint64_t(world.all_sum(int64_t(nonfinite_samples())));
+    m_nonfinite.store(dropped, std::memory_order_relaxed);
+}
+
 size_t Film::pixels_without_samples() const {
     size_t n = 0;
     for (const Pixel& p : m_pixels) n += p.weight == 0;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/color.h"
+#include "core/world.h"
 #include "film/image.h"
 #include "sampling/sampler.h"
 
@@ -30,6 +31,11 @@ public:
     // The image: weighted mean per pixel, plus splats times `splat_scale`.
     Image to_image(float splat_scale = 1.f) const;
     void clear();
+    // Across ranks (each rendered its share into its own film): adds every rank's weighted sums,
+    // splats and dropped-sample counts into rank 0's film; the others' are left as they were. A
+    // pixel only one rank sampled arrives exactly (the others add zeros). Parts no rank wrote
+    // (the splats of a pixel integrator) are not sent. A collective: every rank calls it.
+    void reduce_to_root(World& world);
     // Samples and splats dropped because a channel was NaN or infinite.
     uint64_t nonfinite_samples() const { return m_nonfinite.load(std::memory_order_relaxed); }
     // Pixels that no camera sample reached (a time limit that ended the first pass early).

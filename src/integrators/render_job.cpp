@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 
 #include "camera/camera.h"
@@ -177,6 +178,37 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     return plan;
 }
 
+// Across ranks: rank 0 gathers the ranks' render times and sums their films and images (each
+// holds its own share; see RenderContext::world).
+void reduce_to_root(World& world, Film& film, RenderResult& result, RenderFigures& fig,
+                    double seconds_render) {
+    // A test of the abort path (tests/test_mpi.cpp): this rank fails while the others wait in
+    // the reduction below; the run must end with the message, not hang.
+    if (const char* fail = std::getenv("MANYLIGHT_TEST_FAIL_RANK");
+        fail && std::atoi(fail) == world.rank())
+        throw InternalError(
+            fmt::format("rank {} fails on purpose (MANYLIGHT_TEST_FAIL_RANK)", world.rank()));
+    fig.seconds_render_per_rank = world.gather(seconds_render);
+    auto t = std::chrono::steady_clock::now();
+    film.reduce_to_root(world);
+    // Extra images hold zeros where a rank did not render: summed as the film is. Every rank
+    // made the same images (the same integrator), so the collectives pair up.
+    for (auto* images : {&result.aovs, &result.debug_images}) {
+        if (world.all_min(int64_t(images->size())) !=
+            world.all_sum(int64_t(images->size())) / world.size())
+            throw InternalError("the ranks made different extra images");
+        for (auto& [image_name, image] : *images) {
+            std::vector<float> v(image.pixels.size() * 3);
+            for (size_t i = 0; i < image.pixels.size(); ++i)
+                for (int c = 0; c < 3; ++c) v[i * 3 + size_t(c)] = image.pixels[i][c];
+            world.reduce_sum(v.data(), v.size());
+            for (size_t i = 0; i < image.pixels.size(); ++i)
+                image.pixels[i] = RGB(v[i * 3], v[i * 3 + 1], v[i * 3 + 2]);
+        }
+    }
+    fig.seconds_reduce = seconds_since(t);
+}
+
 // Renders the plan on the built scene.
 RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions& opt,
                       RenderOutput out) {
@@ -185,18 +217,33 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
               threads = opt.threads > 0 ? opt.threads : default_thread_count();
     const std::string& name = plan.name;
     ThreadLimit limit(threads);
+    World& world = opt.world ? *opt.world : local_world();
+    const bool distributed = world.size() > 1;
     Film film(width, height, plan.max_component, plan.imaging_ratio);
-    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
+    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress && world.root());
+    // Across ranks the render (and its time limit) starts when every rank has built the scene.
+    if (distributed) world.barrier();
     RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,     *plan.sampler,
                       plan.spp, opt.time_limit, &progress,    plan.seed};
     ctx.cancel = opt.cancel;
+    if (distributed) ctx.world = &world;
     RenderResult result;
     stats::reset();
     auto t_render = std::chrono::steady_clock::now();
     result = plan.integrator->render(ctx);
+    if (distributed) reduce_to_root(world, film, result, fig, seconds_since(t_render));
     fig.seconds_render = seconds_since(t_render);
     progress.done();
     stats::RayCounts rays = stats::total();
+    if (distributed) {
+        rays.camera = uint64_t(world.all_sum(int64_t(rays.camera)));
+        rays.closest = uint64_t(world.all_sum(int64_t(rays.closest)));
+        rays.shadow = uint64_t(world.all_sum(int64_t(rays.shadow)));
+        rays.nonfinite_splats = uint64_t(world.all_sum(int64_t(rays.nonfinite_splats)));
+        fig.ranks = world.size();
+        fig.bytes_reduced = world.bytes_reduced();
+        fig.bytes_broadcast = world.bytes_broadcast();
+    }
 
     out.image = film.to_image();
     fig.nonfinite_samples = film.nonfinite_samples() + rays.nonfinite_splats;
@@ -290,6 +337,12 @@ nlohmann::json RenderFigures::to_json() const {
         {"film",
          {{"nonfinite_samples", nonfinite_samples},
           {"pixels_without_samples", pixels_without_samples}}}};
+    if (ranks > 1)
+        j["mpi"] = {{"ranks", ranks},
+                    {"seconds_render_per_rank", seconds_render_per_rank},
+                    {"seconds_reduce", seconds_reduce},
+                    {"bytes_reduced_per_rank", bytes_reduced},
+                    {"bytes_broadcast", bytes_broadcast}};
     for (const auto& [key, value] : integrator_stats.items()) j[key] = value;
     return j;
 }

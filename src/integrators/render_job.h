@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/world.h"
 #include "film/image.h"
 #include "scene/scene_desc.h"
 
@@ -37,6 +38,10 @@ struct RenderOptions {
     std::optional<std::array<float, 9>> look_at;
     // When set and true, the render stops starting work (the viewer drops a view it left).
     const std::atomic<bool>* cancel = nullptr;
+    // The processes to split the render over (MPI ranks; null: this one). Every rank calls
+    // render_scene with the same scene and options; rank 0's output holds the image and the
+    // figures, the other ranks' are partial and not to be written. Only rank 0 draws progress.
+    World* world = nullptr;
 };
 
 struct RenderFigures {
@@ -52,6 +57,12 @@ struct RenderFigures {
     uint64_t nonfinite_samples = 0;  // samples the film dropped: a NaN or infinite channel
     size_t pixels_without_samples = 0;  // pixels the time limit left without a camera sample
     std::vector<std::string> warnings;  // for the user: settings that were not honoured
+    // Across MPI ranks (more than 1): each rank's render time, rank 0's time summing the films,
+    // and the bytes this rank gave to reductions and broadcasts (the "mpi" member of --stats).
+    int ranks = 1;
+    std::vector<double> seconds_render_per_rank;
+    double seconds_reduce = 0;
+    uint64_t bytes_reduced = 0, bytes_broadcast = 0;
     // The --stats object.
     nlohmann::json to_json() const;
 };

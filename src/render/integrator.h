@@ -13,6 +13,7 @@
 #include "camera/camera.h"
 #include "core/progress.h"
 #include "core/scratch.h"
+#include "core/world.h"
 #include "film/film.h"
 #include "film/filter.h"
 #include "sampling/sampler.h"
@@ -51,6 +52,16 @@ struct RenderContext {
         return (cancel && cancel->load(std::memory_order_relaxed)) ||
                (time_limit > 0 && elapsed() >= time_limit);
     }
+
+    // The processes the render is split over (null: this one alone). Each rank renders the work
+    // items it owns (tiles, chains: item % ranks == rank) into its own film; the render job sums
+    // the films on rank 0. Integrators keep every rank's calls to the world's collectives in
+    // step.
+    World* world = nullptr;
+    int rank() const { return world ? world->rank() : 0; }
+    int ranks() const { return world ? world->size() : 1; }
+    bool owns(int64_t item) const { return ranks() == 1 || item % ranks() == rank(); }
+    World& world_or_local() const { return world ? *world : local_world(); }
 };
 
 struct RenderResult {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <vector>
 
 #include "core/assert.h"
 #include "core/parallel.h"
@@ -38,12 +39,17 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
         double round_start = ctx.elapsed();
         int64_t ran = round(done, units);
         ML_ASSERT(ran >= 0 && ran <= units, "a round ran more units than it was given");
+        // Across ranks: a round cut short on any rank counts on none, and the next round is the
+        // least any rank expects to finish in time, so every rank runs the same rounds.
+        if (ctx.ranks() > 1) ran = ctx.world->all_min(ran);
         if (ran == 0) break;
         done += ran;
         report_progress(ctx, double(done) / double(plan.total));
-        if (timed)
+        if (timed) {
             units = next_round_size(ran, ctx.elapsed() - round_start, ctx.elapsed(), ctx.time_limit,
                                     plan.most);
+            if (ctx.ranks() > 1) units = ctx.world->all_min(units);
+        }
     }
     return done;
 }
@@ -51,15 +57,31 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
                       const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn) {
     const int w = ctx.film.width(), h = ctx.film.height();
+    // Across ranks each takes the tiles it owns (tile index % ranks == rank): every pixel is
+    // rendered by one rank, as by one process, and the films add up exactly.
+    std::vector<int> owned;
+    const int tiles_x = (w + kPixelTile - 1) / kPixelTile,
+              tiles_y = (h + kPixelTile - 1) / kPixelTile;
+    int64_t owned_pixels = int64_t(w) * h;
+    if (ctx.ranks() > 1) {
+        owned_pixels = 0;
+        for (int t = 0; t < tiles_x * tiles_y; ++t)
+            if (ctx.owns(t)) {
+                owned.push_back(t);
+                int x0 = (t % tiles_x) * kPixelTile, y0 = (t / tiles_x) * kPixelTile;
+                owned_pixels += int64_t(std::min(w, x0 + kPixelTile) - x0) *
+                                (std::min(h, y0 + kPixelTile) - y0);
+            }
+    }
     // Progress within a round: rows of pixels done, each counted for its units.
     std::atomic<int64_t> rows_done{0};
-    const double total_rows = double(h) * double(units);
+    const double total_rows = double(owned_pixels) / double(w) * double(units);
     RoundPlan plan;
     plan.total = units;
     return run_rounds(ctx, plan, [&](int64_t u0, int64_t want) {
         const int64_t n = std::min(want, units - u0), u1 = u0 + n;
         std::atomic<bool> cut_short{false};
-        parallel_for_tiles(w, h, kPixelTile, [&](int y0, int y1, int x0, int x1) {
+        auto tile = [&](int y0, int y1, int x0, int x1) {
             for (int y = y0; y < y1; ++y) {
                 // Past the time limit no tile or row starts (see render_loop.h).
                 if (ctx.out_of_time()) {
@@ -72,7 +94,14 @@ int64_t render_pixels(const RenderContext& ctx, int64_t units,
                     report_progress(ctx, double(rows_done.fetch_add(rows) + rows) / total_rows);
                 }
             }
-        });
+        };
+        if (ctx.ranks() == 1)
+            parallel_for_tiles(w, h, kPixelTile, tile);
+        else
+            parallel_for(size_t(0), owned.size(), [&](size_t i) {
+                int x0 = (owned[i] % tiles_x) * kPixelTile, y0 = (owned[i] / tiles_x) * kPixelTile;
+                tile(y0, std::min(h, y0 + kPixelTile), x0, std::min(w, x0 + kPixelTile));
+            });
         return cut_short ? int64_t(0) : n;
     });
 }

@@ -8,6 +8,9 @@
 //     order (splats.h: run_and_merge), never in the order threads finish.
 // Under a time limit, run_rounds sizes each round from the last one's cost so that it ends in
 // time; no round is started that is not expected to.
+// Across MPI ranks (RenderContext::world) each rank takes the items it owns (RenderContext::owns:
+// pixel tiles, splat tiles, chains), run_rounds keeps the ranks' rounds in step, and the render
+// job sums the ranks' films on rank 0.
 #pragma once
 
 #include <cstdint>
@@ -46,6 +49,9 @@ struct RoundPlan {
 // time limit, rounds of plan.most units (the whole budget by default); under one, a first round
 // of plan.first_timed units, then each as next_round_size says, timed from the render's start
 // (RenderContext::elapsed). Reports progress after each round. Returns the units done.
+// Across ranks, round() must return the same count on every rank (a sum over the ranks where
+// each runs a share), or 0 where it was cut short: run_rounds takes the least over the ranks,
+// and the least next round size, so that every rank runs the same rounds.
 int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
                    const std::function<int64_t(int64_t done, int64_t units)>& round);
 
@@ -57,7 +63,7 @@ void report_progress(const RenderContext& ctx, double work_fraction);
 // each pixel's units run in order on one thread, so the image does not depend on the schedule.
 // Past the time limit no tile or row of a tile starts, even within a round: the contract is the
 // time; the round then does not count (the film's weights keep the pixels' means right).
-// Returns the units done.
+// Across ranks each renders the 8x8 tiles it owns (tile % ranks == rank). Returns the units done.
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
                       const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
 

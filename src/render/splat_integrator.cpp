@@ -38,6 +38,9 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
         for (int wave = 0; wave < tile_count; wave += kTilesPerWave) {
             int wave_end = std::min(tile_count, wave + kTilesPerWave);
             run_and_merge(wave, wave_end, lists, sums, [&](int64_t tile, SplatList& splats) {
+                // Across ranks, each renders the tiles it owns (their camera samples and the
+                // light paths they start); the others' splats reach rank 0 in the films' sum.
+                if (!ctx.owns(tile)) return;
                 ThreadState& ts = states.local();
                 int x0 = int(tile % tiles_x) * kTile, y0 = int(tile / tiles_x) * kTile;
                 for (int y = y0; y < std::min(h, y0 + kTile); ++y)

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -176,6 +177,35 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
         }
     }));
     double shade_seconds = seconds_since(t_shade);
+
+    // Across ranks each shaded the pixels of its tiles; the filter needs their neighbours, so
+    // rank 0 sums every rank's pixels and texels (the others' slots are zero: exact) and alone
+    // filters and writes the film. 15 floats a pixel.
+    if (ctx.ranks() > 1) {
+        constexpr size_t kFloats = 15;
+        std::vector<float> packed(pixels.size() * kFloats, 0.f);
+        for (size_t i = 0; i < pixels.size(); ++i) {
+            const Pixel& px = pixels[i];
+            const GBufferTexel& g = gbuffer[i];
+            float v[kFloats] = {
+                px.direct.r,   px.direct.g, px.direct.b, px.indirect.r, px.indirect.g,
+                px.indirect.b, px.weight,   g.p.x,       g.p.y,         g.p.z,
+                g.n.x,         g.n.y,       g.n.z,       g.depth,       g.valid ? 1.f : 0.f};
+            std::copy(v, v + kFloats, packed.begin() + ptrdiff_t(i * kFloats));
+        }
+        ctx.world->reduce_sum(packed.data(), packed.size());
+        if (!ctx.world->root()) {
+            result.point_lights = m_set.lights.size();
+            result.vpls = m_set.vpls;
+            return result;
+        }
+        for (size_t i = 0; i < pixels.size(); ++i) {
+            const float* v = &packed[i * kFloats];
+            pixels[i] = Pixel{RGB(v[0], v[1], v[2]), RGB(v[3], v[4], v[5]), v[6]};
+            gbuffer[i] =
+                GBufferTexel{Vec3(v[7], v[8], v[9]), Vec3(v[10], v[11], v[12]), v[13], v[14] != 0};
+        }
+    }
 
     // Gathering is implicit (each pixel wrote its own slot); filtering and blending.
     auto t_filter = std::chrono::steady_clock::now();

@@ -106,8 +106,10 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
                 scratch.reset();
             }
         });
+        // Every rank runs the same bootstrap (the same seed): rank 0 says when it stops.
         if (i1 < n_bootstrap && ctx.time_limit > 0 &&
-            ctx.elapsed() > kBootstrapTimeShare * ctx.time_limit) {
+            ctx.world_or_local().root_decides(ctx.elapsed() >
+                                              kBootstrapTimeShare * ctx.time_limit)) {
             n_bootstrap = i1;
             weight.resize(size_t(n_bootstrap) * depths);
         }
@@ -123,6 +125,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     const int n_chains = int(std::min<int64_t>(m_chains, total));
     std::vector<Chain> chains(static_cast<size_t>(n_chains));
     for (int c = 0; c < n_chains; ++c) {
+        if (!ctx.owns(c)) continue;  // across ranks, each runs the chains it owns
         Chain& ch = chains[size_t(c)];
         ch.current = std::make_unique<ScratchBuffer>();
         ch.spare = std::make_unique<ScratchBuffer>();
@@ -155,6 +158,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         const int64_t per_chain = units / n_chains;
         if (per_chain < 1) return int64_t(0);
         run_and_merge(0, n_chains, lists, sums, [&](int64_t c, SplatList& splats) {
+            if (!ctx.owns(c)) return;
             Chain& ch = chains[size_t(c)];
             Sampler& sampler = *samplers.local();
             int64_t end = std::min(budget[size_t(c)], ch.next + per_chain);
@@ -199,6 +203,7 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         });
         int64_t now = 0;
         for (const Chain& ch : chains) now += ch.next;
+        if (ctx.ranks() > 1) now = ctx.world->all_sum(now);  // the mutations of every rank
         return now - done_before;
     });
 
@@ -209,6 +214,12 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
         accepted += c.accepted;
         for (int k = 0; k < 4; ++k)
             chosen_by[k] += c.chosen_by[k], accepted_by[k] += c.accepted_by[k];
+    }
+    if (ctx.ranks() > 1) {
+        accepted = ctx.world->all_sum(accepted);
+        for (int k = 0; k < 4; ++k)
+            chosen_by[k] = ctx.world->all_sum(chosen_by[k]),
+            accepted_by[k] = ctx.world->all_sum(accepted_by[k]);
     }
     auto rate = [](int64_t n, int64_t d) { return double(n) / double(std::max<int64_t>(d, 1)); };
     // Per mutation: how often it was chosen and the share of those accepted ("bidirectional" is

@@ -45,7 +45,11 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     // Under a time limit the bootstrap takes at most its share of the time.
     std::function<bool()> bootstrap_stop;
     if (timed)
-        bootstrap_stop = [&] { return ctx.elapsed() > kBootstrapTimeShare * ctx.time_limit; };
+        // Every rank runs the same bootstrap (the same seed): rank 0 says when it stops.
+        bootstrap_stop = [&] {
+            return ctx.world_or_local().root_decides(ctx.elapsed() >
+                                                     kBootstrapTimeShare * ctx.time_limit);
+        };
     Bootstrap bootstrap(*estimator, params, m_bootstrap, bootstrap_stop);
     double seconds_bootstrap = ctx.elapsed();
     RenderResult result;
@@ -77,6 +81,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     std::vector<int64_t> remaining(size_t(n_chains), total / n_chains);
     chains.reserve(size_t(n_chains));
     for (int64_t i = 0; i < n_chains; ++i) {
+        // Every chain is made (its starting path is cheap); across ranks each runs its own.
         chains.emplace_back(*estimator, bootstrap, params, uint64_t(i), uint64_t(n_chains));
         if (i < total % n_chains) ++remaining[size_t(i)];
     }
@@ -98,12 +103,14 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
         if (per_chain < 1) return int64_t(0);
         run_and_merge(0, n_chains, lists, sums, [&](int64_t i, SplatList& splats) {
             size_t k = size_t(i);
+            if (!ctx.owns(i)) return;  // across ranks, each runs the chains it owns
             ran[k] = std::min(per_chain, remaining[k]);
             chains[k].run(ran[k], splats, scratch.local());
             remaining[k] -= ran[k];
         });
         int64_t segment = 0;
         for (int64_t r : ran) segment += r;
+        if (ctx.ranks() > 1) segment = ctx.world->all_sum(segment);  // every rank's mutations
         return segment;
     });
 
@@ -112,6 +119,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     sums.add_to_film(ctx.film, bootstrap.b() * double(pixels) / double(done));
     int64_t accepted = 0;
     for (const MarkovChain& c : chains) accepted += c.accepted();
+    if (ctx.ranks() > 1) accepted = ctx.world->all_sum(accepted);
     result.spp = int(done / pixels);
     result.stats["pssmlt"] = stats_json(done, accepted, n_chains);
     return result;
