@@ -17,7 +17,7 @@
 #include <atomic>
 #include <vector>
 
-#include "integrators/mdlightcuts/product_cut.h"
+#include "manylight/product_cut.h"
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"

@@ -54,8 +54,17 @@ constexpr float kDirectionBinCos = 0.70710678f;
 // A gather point of a pixel pass and its weight in the pass's pixel estimate.
 struct WeightedGatherPoint {
     GatherPoint g;
-    float a = 0;  // its camera sample's filter weight over the sum of the pass's
-    RGB w;        // a * g.beta: the gather tree's strength of this point
+    float a = 0;       // its camera sample's filter weight over the sum of the pass's
+    RGB w;             // a * g.beta: the gather tree's strength of this point
+    int32_t tag = -1;  // the integrator's own index for the point (bdlightcuts: its VSP data)
+};
+
+// An optional weight in [0, 1] of each (gather point, point light) pair, which multiplies the
+// pair's value (bdlightcuts' split weights). Weights of at most 1 leave every bound valid.
+class PairWeight {
+public:
+    virtual ~PairWeight() = default;
+    virtual float weight(const WeightedGatherPoint& p, const PointLight& pl) const = 0;
 };
 
 enum class CutCriterion { Max, Sum };
@@ -91,6 +100,8 @@ public:
                const RGB& known, float error, int max_cut,
                CutCriterion criterion = CutCriterion::Max, int tighten_members = 1 << 30,
                float floor_luminance = 0);
+    // Weights every pair's value by w (nullptr: none); w must outlive the cut maker's use.
+    void set_pair_weight(const PairWeight* w) { m_pair_weight = w; }
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
@@ -121,6 +132,7 @@ private:
     const PointLightSet& m_set;
     const LightTree& m_tree;
     const ManyLightSettings& m_settings;
+    const PairWeight* m_pair_weight = nullptr;
     struct HeapEntry {
         float bound;
         int32_t slot;  // index into m_cut

@@ -1,4 +1,4 @@
-#include "integrators/mdlightcuts/product_cut.h"
+#include "manylight/product_cut.h"
 
 #include <algorithm>
 #include <array>
@@ -91,6 +91,11 @@ RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
     Ray shadow;
     if (!point_light_contribution(m_set, pl, p.g, &c, &shadow)) return RGB();
     c = m_settings.clamped(c, pl.is_vpl);
+    if (m_pair_weight) {
+        float w = m_pair_weight->weight(p, pl);
+        if (!(w > 0)) return RGB();
+        c *= w;
+    }
     return m_scene.occluded(shadow) ? RGB() : c;
 }
 
