@@ -65,6 +65,11 @@ class PairWeight {
 public:
     virtual ~PairWeight() = default;
     virtual float weight(const WeightedGatherPoint& p, const PointLight& pl) const = 0;
+    // A bound, channel by channel, of the weighted sum of a gather node's points with a light
+    // node's lights, which the cut takes where it is below its own (+infinity: none).
+    virtual RGB cluster_bound(const GatherTreeNode& g, int32_t light_node) const {
+        return RGB(kInfinity);
+    }
 };
 
 enum class CutCriterion { Max, Sum };
@@ -120,6 +125,8 @@ public:
 private:
     // c_i(j) with its shadow ray, VPL clamping applied.
     RGB value(const WeightedGatherPoint& p, int32_t light) const;
+    // A bound of a pair's value, lowered to the pair weight's cluster bound where that is lower.
+    RGB weighted(const RGB& bound, const GatherTreeNode& g, int32_t light) const;
     ProductPair make_pair(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                           int32_t gather, int32_t light, int32_t grep, int32_t lrep,
                           const RGB& rep_value) const;

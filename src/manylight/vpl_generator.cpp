@@ -68,7 +68,7 @@ void deposit_impl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& bet
         pl.kind = PointLightKind::Oriented;
         RGB f = bsdf.eval(pl.n, wi, TransportMode::Radiance);
         pl.intensity = beta * f;
-        pl.diffuse_f = f.luminance();
+        pl.diffuse_f = f.max_component();
         if (pl.intensity.is_black()) return;
         chunk.lights.push_back(pl);
         return;

@@ -18,19 +18,33 @@ namespace ml {
 namespace {
 
 // D of a point light towards unit direction w (from the light): the light side's lobe as in
-// split_weights.h. VPLs: f(w, wi) |cos| of their surface; emitters: their emission's density.
+// split_weights.h. VPLs: f(w, wi) |cos| of their surface (the largest channel of f);
+// emitters: their emission's density. Every channel of the light's intensity towards w is at
+// most D times the light's flux (light_flux).
 float light_density(const PointLightSet& set, const PointLight& pl, const Vec3& w) {
     if (pl.kind == PointLightKind::Directional) return 0.f;
     if (pl.is_vpl) {
         if (pl.surface >= 0) {
             const VplSurface& s = set.surfaces[size_t(pl.surface)];
             RGB f = s.diffuse_only ? s.bsdf.eval_diffuse(w, s.wi) : s.bsdf.eval(w, s.wi);
-            return f.luminance() * abs_dot(w, s.bsdf.frame().n);
+            return f.max_component() * abs_dot(w, s.bsdf.frame().n);
         }
         return pl.diffuse_f * std::max(0.f, dot(pl.n, w));
     }
     if (pl.kind == PointLightKind::Oriented) return std::max(0.f, dot(pl.n, w)) / kPi;
     return 1.f / (4 * kPi);
+}
+
+// The flux Phi of a point light, channel by channel, with I(w) <= Phi D(w) (light_density);
+// +infinity for directional lights, which have no D.
+RGB light_flux(const PointLightSet& set, const PointLight& pl) {
+    if (pl.kind == PointLightKind::Directional) return RGB(kInfinity);
+    if (pl.is_vpl) {
+        if (pl.surface >= 0) return set.surfaces[size_t(pl.surface)].flux;
+        return pl.diffuse_f > 0 ? pl.intensity * (1.f / pl.diffuse_f) : RGB();
+    }
+    if (pl.kind == PointLightKind::Oriented) return pl.intensity * kPi;
+    return pl.intensity * (4 * kPi);
 }
 
 // The split weight of each (VSP, point light) pair of a pass.
@@ -55,17 +69,31 @@ public:
             wi = d / std::sqrt(d2);
             inv_d2 = 1.f / d2;
         }
-        float f = p.g.bsdf.eval(si.wo, wi).luminance();
+        float f = p.g.bsdf.eval(si.wo, wi).max_component();
         if (!(f > 0)) return 0.f;
-        Vec3 n = p.g.bsdf.frame().n;
-        // w_{j-1} needs D_j, the VSP's lobe between the eye and this light.
-        float dj = f * abs_dot(si.wo, n), mj = f * abs_dot(wi, n);
+        // w_{j-1} needs D_j, the VSP's lobe between the eye and this light; M_j has the
+        // connection's cosine (point_light_contribution's).
+        float dj = f * abs_dot(si.wo, p.g.bsdf.frame().n), mj = f * abs_dot(wi, si.ns);
         float prefix = v.prefix;
         if (v.pending_mt >= 0)
             prefix += split_weight(m_o, prefix, v.pending_mt * dj, dj, v.pending_mu);
         float dl = light_density(m_set, pl, -wi);
         return split_weight(m_o, prefix, mj * inv_d2 * dl, dl, v.mu);
     }
+
+    // With the clamping weight, w M T D <= C_clamp, so a VSP with throughput beta and a light
+    // with flux Phi give at most C_clamp beta Phi (channel by channel, M and D being the largest
+    // channels of the BSDFs' values): a cluster pair at most C_clamp (the VSP node's strength)
+    // (the light node's flux).
+    RGB cluster_bound(const GatherTreeNode& g, int32_t light_node) const override {
+        if (!m_o.clamp || node_flux.empty()) return RGB(kInfinity);
+        const RGB& phi = node_flux[size_t(light_node)];
+        RGB b;
+        for (int c = 0; c < 3; ++c)
+            b[c] = (g.strength[c] == 0 || phi[c] == 0) ? 0.f : m_o.c_clamp * g.strength[c] * phi[c];
+        return b;
+    }
+    std::vector<RGB> node_flux;  // per light-tree node: its lights' summed flux
 
 private:
     const PointLightSet& m_set;
@@ -168,13 +196,13 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         if (bs->is_specular()) {
             pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
         } else {
-            float f = bsdf.eval(si.wo, bs->wi).luminance();
+            float f = bsdf.eval(si.wo, bs->wi).max_component();
             if (pending) {
                 float d = f * abs_dot(si.wo, n);
                 prefix += split_weight(m_weights, prefix, pending_m * t_prev * d, d, pending_mu);
             }
             pending = true;
-            pending_m = f * abs_dot(bs->wi, n);
+            pending_m = f * abs_dot(bs->wi, si.ns);
             pending_mu = spread_mu(m_weights, theta);
             pending_p = si.p;
             theta += lobe_spread(pending_m);
@@ -193,9 +221,34 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
     m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
     m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0;
+    // Each light node's flux, children before parents (whatever order the tree stores them).
+    std::vector<RGB> node_flux(m_tree.node_count());
+    std::vector<uint8_t> summed(m_tree.node_count(), 0);
+    for (PointLightKind kind : kAllPointLightKinds) {
+        if (m_tree.root(kind) < 0) continue;
+        std::vector<int32_t> stack{m_tree.root(kind)};
+        while (!stack.empty()) {
+            int32_t n = stack.back();
+            const LightTreeNode& L = m_tree.node(n);
+            if (L.is_leaf()) {
+                node_flux[size_t(n)] = light_flux(m_set, m_set.lights[size_t(L.light)]);
+            } else if (!summed[size_t(L.children[0])] || !summed[size_t(L.children[1])]) {
+                for (int32_t c : L.children)
+                    if (!summed[size_t(c)]) stack.push_back(c);
+                continue;
+            } else {
+                node_flux[size_t(n)] =
+                    node_flux[size_t(L.children[0])] + node_flux[size_t(L.children[1])];
+            }
+            summed[size_t(n)] = 1;
+            stack.pop_back();
+        }
+    }
     ThreadLocal<ThreadState> states([&] {
+        SplitWeighting w(m_set, m_weights, m_settings.max_depth);
+        w.node_flux = node_flux;
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings),
-                           SplitWeighting(m_set, m_weights, m_settings.max_depth));
+                           std::move(w));
     });
     m_floor_luminance = 0;
     if (m_floor > 0)

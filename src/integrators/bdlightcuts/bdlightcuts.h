@@ -55,11 +55,12 @@ private:
                   float filter_weight) const;
 
     ManyLightSettings m_settings;
+    // Defaults: bench/RESULTS.md, "Issue 17, Bidirectional Lightcuts".
     SplitWeightOptions m_weights;
     int m_samples = 16;
     int m_eye_length = 2;
     float m_error = 0.1f;
-    int m_max_cut = 1000;
+    int m_max_cut = 300;
     float m_floor = 1.0f;
     float m_floor_luminance = 0;
     PointLightSet m_set;
