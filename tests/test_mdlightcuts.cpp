@@ -9,8 +9,8 @@
 
 #include "camera/camera.h"
 #include "core/rng.h"
-#include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather_tree.h"
+#include "manylight/product_cut.h"
 #include "render/settings.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"

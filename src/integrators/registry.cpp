@@ -1,5 +1,6 @@
 #include "integrators/registry.h"
 
+#include "integrators/bdlightcuts/bdlightcuts.h"
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/direct/direct.h"
 #include "integrators/igi/igi.h"
@@ -57,6 +58,10 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          "multidimensional Lightcuts: one cut through the product of a pixel's gather points and "
          "the light tree",
          make<MdLightcutsIntegrator>},
+        {"bdlightcuts",
+         "bidirectional Lightcuts: eye-path VSPs joined to VPLs at every split, weighted, by one "
+         "product cut",
+         make<BdLightcutsIntegrator>},
         {"igi",
          "instant global illumination, interleaved: each of n x m sub-buffers shaded by its own "
          "share of the VPLs, blurred over continuous regions (the viewer's moving frames)",

@@ -73,6 +73,12 @@ struct PointLight {
     // -1: the cosine lobe (or omni/directional as above).
     int32_t surface = -1;
     bool is_vpl = false;
+    // VPLs of the plain light tracer (vpl.sampler=power/uniform): the light path's surface
+    // vertices up to this one (1: the first surface hit); 0 for emitters' lights and unknown.
+    uint8_t depth = 0;
+    // Lambertian VPLs (oriented, no surface): the largest channel of their constant BSDF value
+    // f, so that f |cos| towards w is known without the flux (bdlightcuts' weights).
+    float diffuse_f = 0;
     uint8_t falloff[kFalloffBins] = {};  // glossy lights (see kFalloffBins); 0: no falloff
 };
 

@@ -66,7 +66,9 @@ void deposit_impl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& bet
         // Lambertian: f is constant, I(w) = flux f cos(n, w), a cosine lobe. (A diffuse base
         // under a smooth coat is not: Fresnel and the coat's absorption depend on w.)
         pl.kind = PointLightKind::Oriented;
-        pl.intensity = beta * bsdf.eval(pl.n, wi, TransportMode::Radiance);
+        RGB f = bsdf.eval(pl.n, wi, TransportMode::Radiance);
+        pl.intensity = beta * f;
+        pl.diffuse_f = f.max_component();
         if (pl.intensity.is_black()) return;
         chunk.lights.push_back(pl);
         return;
@@ -171,8 +173,12 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
         uint8_t flags = bsdf.flags();
         bool glossy = flags & kBxdfGlossy;
         if (bsdf.has_nonspecular() && (m_options.glossy != GlossyVpls::Skip || !glossy)) {
-            if (after_specular || !m_options.after_specular_only)
+            if (after_specular || !m_options.after_specular_only) {
+                size_t before = chunk.lights.size();
                 deposit_vpl(si, bsdf, beta, m_options.glossy, chunk);
+                if (chunk.lights.size() > before)
+                    chunk.lights.back().depth = uint8_t(std::min(255, deposited + 1));
+            }
             if (++deposited >= m_options.max_depth) break;
         }
         float uc = sampler.get_1d();

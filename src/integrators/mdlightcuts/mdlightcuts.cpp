@@ -7,10 +7,10 @@
 
 #include "core/parallel.h"
 #include "core/stats.h"
-#include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
 #include "manylight/pilot.h"
+#include "manylight/product_cut.h"
 #include "render/render_loop.h"
 
 namespace ml {

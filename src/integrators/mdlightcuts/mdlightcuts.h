@@ -17,11 +17,11 @@
 #include <atomic>
 #include <vector>
 
-#include "integrators/mdlightcuts/product_cut.h"
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"
 #include "manylight/point_light_set.h"
+#include "manylight/product_cut.h"
 #include "render/integrator.h"
 #include "render/settings.h"
 

@@ -54,8 +54,22 @@ constexpr float kDirectionBinCos = 0.70710678f;
 // A gather point of a pixel pass and its weight in the pass's pixel estimate.
 struct WeightedGatherPoint {
     GatherPoint g;
-    float a = 0;  // its camera sample's filter weight over the sum of the pass's
-    RGB w;        // a * g.beta: the gather tree's strength of this point
+    float a = 0;       // its camera sample's filter weight over the sum of the pass's
+    RGB w;             // a * g.beta: the gather tree's strength of this point
+    int32_t tag = -1;  // the integrator's own index for the point (bdlightcuts: its VSP data)
+};
+
+// An optional weight in [0, 1] of each (gather point, point light) pair, which multiplies the
+// pair's value (bdlightcuts' split weights). Weights of at most 1 leave every bound valid.
+class PairWeight {
+public:
+    virtual ~PairWeight() = default;
+    virtual float weight(const WeightedGatherPoint& p, const PointLight& pl) const = 0;
+    // A bound, channel by channel, of the weighted sum of a gather node's points with a light
+    // node's lights, which the cut takes where it is below its own (+infinity: none).
+    virtual RGB cluster_bound(const GatherTreeNode& g, int32_t light_node) const {
+        return RGB(kInfinity);
+    }
 };
 
 enum class CutCriterion { Max, Sum };
@@ -91,6 +105,8 @@ public:
                const RGB& known, float error, int max_cut,
                CutCriterion criterion = CutCriterion::Max, int tighten_members = 1 << 30,
                float floor_luminance = 0);
+    // Weights every pair's value by w (nullptr: none); w must outlive the cut maker's use.
+    void set_pair_weight(const PairWeight* w) { m_pair_weight = w; }
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
@@ -109,6 +125,8 @@ public:
 private:
     // c_i(j) with its shadow ray, VPL clamping applied.
     RGB value(const WeightedGatherPoint& p, int32_t light) const;
+    // A bound of a pair's value, lowered to the pair weight's cluster bound where that is lower.
+    RGB weighted(const RGB& bound, const GatherTreeNode& g, int32_t light) const;
     ProductPair make_pair(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                           int32_t gather, int32_t light, int32_t grep, int32_t lrep,
                           const RGB& rep_value) const;
@@ -121,6 +139,7 @@ private:
     const PointLightSet& m_set;
     const LightTree& m_tree;
     const ManyLightSettings& m_settings;
+    const PairWeight* m_pair_weight = nullptr;
     struct HeapEntry {
         float bound;
         int32_t slot;  // index into m_cut

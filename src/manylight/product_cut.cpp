@@ -1,4 +1,4 @@
-#include "integrators/mdlightcuts/product_cut.h"
+#include "manylight/product_cut.h"
 
 #include <algorithm>
 #include <array>
@@ -86,7 +86,13 @@ int nearest_direction_bin(const Vec3& w) {
 }  // namespace
 
 RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
-    return visible_point_light(m_scene, m_set, m_settings, m_set.lights[size_t(light)], p.g);
+    const PointLight& pl = m_set.lights[size_t(light)];
+    float w = 1;
+    if (m_pair_weight) {
+        w = m_pair_weight->weight(p, pl);
+        if (!(w > 0)) return RGB();
+    }
+    return visible_point_light(m_scene, m_set, m_settings, pl, p.g) * w;
 }
 
 RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
@@ -152,6 +158,12 @@ RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points, cons
     return b;
 }
 
+RGB ProductCut::weighted(const RGB& bound, const GatherTreeNode& g, int32_t light) const {
+    if (!m_pair_weight) return bound;
+    RGB w = m_pair_weight->cluster_bound(g, light);
+    return RGB(std::min(bound.r, w.r), std::min(bound.g, w.g), std::min(bound.b, w.b));
+}
+
 ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points,
                                   const GatherTree& gtree, int32_t gather, int32_t light,
                                   int32_t grep, int32_t lrep, const RGB& rep_value) const {
@@ -170,7 +182,8 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
             representative_scale(L.weight, selection_weight(m_set.lights[size_t(lrep)].intensity));
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
-    p.bound = error_bound(loose_bound(points, gtree, gather, light), p.estimate);
+    p.bound =
+        error_bound(weighted(loose_bound(points, gtree, gather, light), G, light), p.estimate);
     p.tight = p.bound == 0;
     return p;
 }
@@ -279,7 +292,9 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
             // Tighten the bound and look again: the pair may no longer be the worst.
             p.tight = true;
             if (gtree.node(p.gather).end - gtree.node(p.gather).begin <= tighten_members) {
-                float b = error_bound(tight_bound(points, gtree, p.gather, p.light), p.estimate);
+                float b = error_bound(weighted(tight_bound(points, gtree, p.gather, p.light),
+                                               gtree.node(p.gather), p.light),
+                                      p.estimate);
                 p.bound = std::min(p.bound, b);
                 push(p, slot);
                 continue;

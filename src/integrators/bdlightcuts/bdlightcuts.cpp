@@ -1,0 +1,370 @@
+#include "integrators/bdlightcuts/bdlightcuts.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/parallel.h"
+#include "core/stats.h"
+#include "manylight/gather.h"
+#include "manylight/gather_tree.h"
+#include "manylight/pilot.h"
+#include "materials/material.h"
+#include "render/render_loop.h"
+#include "transport/direct_lighting.h"
+#include "transport/spawn.h"
+
+namespace ml {
+
+namespace {
+
+// D of a point light towards unit direction w (from the light): the light side's lobe as in
+// split_weights.h. VPLs: f(w, wi) |cos| of their surface (the largest channel of f);
+// emitters: their emission's density. Every channel of the light's intensity towards w is at
+// most D times the light's flux (light_flux).
+float light_density(const PointLightSet& set, const PointLight& pl, const Vec3& w) {
+    if (pl.kind == PointLightKind::Directional) return 0.f;
+    if (pl.is_vpl) {
+        if (pl.surface >= 0) {
+            const VplSurface& s = set.surfaces[size_t(pl.surface)];
+            RGB f = s.diffuse_only ? s.bsdf.eval_diffuse(w, s.wi) : s.bsdf.eval(w, s.wi);
+            return f.max_component() * abs_dot(w, s.bsdf.frame().n);
+        }
+        return pl.diffuse_f * std::max(0.f, dot(pl.n, w));
+    }
+    if (pl.kind == PointLightKind::Oriented) return std::max(0.f, dot(pl.n, w)) / kPi;
+    return 1.f / (4 * kPi);
+}
+
+// The flux Phi of a point light, channel by channel, with I(w) <= Phi D(w) (light_density);
+// +infinity for directional lights, which have no D.
+RGB light_flux(const PointLightSet& set, const PointLight& pl) {
+    if (pl.kind == PointLightKind::Directional) return RGB(kInfinity);
+    if (pl.is_vpl) {
+        if (pl.surface >= 0) return set.surfaces[size_t(pl.surface)].flux;
+        return pl.diffuse_f > 0 ? pl.intensity * (1.f / pl.diffuse_f) : RGB();
+    }
+    if (pl.kind == PointLightKind::Oriented) return pl.intensity * kPi;
+    return pl.intensity * (4 * kPi);
+}
+
+// The split weight of each (VSP, point light) pair of a pass.
+class SplitWeighting final : public PairWeight {
+public:
+    SplitWeighting(const PointLightSet& set, const SplitWeightOptions& o, int max_depth)
+        : m_set(set), m_o(o), m_max_depth(max_depth) {}
+    const std::vector<BdLightcutsIntegrator::Vsp>* vsps = nullptr;
+
+    float weight(const WeightedGatherPoint& p, const PointLight& pl) const override {
+        const BdLightcutsIntegrator::Vsp& v = (*vsps)[size_t(p.tag)];
+        if (pl.depth > 0 && v.depth + int(pl.depth) > m_max_depth) return 0.f;
+        const SurfaceInteraction& si = p.g.si;
+        Vec3 wi;
+        float inv_d2 = 1.f;
+        if (pl.kind == PointLightKind::Directional) {
+            wi = -pl.n;
+        } else {
+            Vec3 d = pl.p - si.p;
+            float d2 = length_squared(d);
+            if (!(d2 > 0)) return 0.f;
+            wi = d / std::sqrt(d2);
+            inv_d2 = 1.f / d2;
+        }
+        float f = p.g.bsdf.eval(si.wo, wi).max_component();
+        if (!(f > 0)) return 0.f;
+        // w_{j-1} needs D_j, the VSP's lobe between the eye and this light; M_j has the
+        // connection's cosine (point_light_contribution's).
+        float dj = f * abs_dot(si.wo, p.g.bsdf.frame().n), mj = f * abs_dot(wi, si.ns);
+        float prefix = v.prefix;
+        if (v.pending_mt >= 0)
+            prefix += split_weight(m_o, prefix, v.pending_mt * dj, dj, v.pending_mu);
+        float dl = light_density(m_set, pl, -wi);
+        return split_weight(m_o, prefix, mj * inv_d2 * dl, dl, v.mu);
+    }
+
+    // With the clamping weight, w M T D <= C_clamp, so a VSP with throughput beta and a light
+    // with flux Phi give at most C_clamp beta Phi (channel by channel, M and D being the largest
+    // channels of the BSDFs' values): a cluster pair at most C_clamp (the VSP node's strength)
+    // (the light node's flux).
+    RGB cluster_bound(const GatherTreeNode& g, int32_t light_node) const override {
+        if (!m_o.clamp || node_flux.empty()) return RGB(kInfinity);
+        const RGB& phi = node_flux[size_t(light_node)];
+        RGB b;
+        for (int c = 0; c < 3; ++c)
+            b[c] = (g.strength[c] == 0 || phi[c] == 0) ? 0.f : m_o.c_clamp * g.strength[c] * phi[c];
+        return b;
+    }
+    std::vector<RGB> node_flux;  // per light-tree node: its lights' summed flux
+
+private:
+    const PointLightSet& m_set;
+    const SplitWeightOptions& m_o;
+    int m_max_depth;
+};
+
+}  // namespace
+
+struct BdLightcutsIntegrator::ThreadState {
+    ThreadState(std::unique_ptr<Sampler> s, ProductCut c, SplitWeighting w)
+        : sampler(std::move(s)), cut(std::move(c)), weighting(std::move(w)) {}
+    std::unique_ptr<Sampler> sampler;
+    ScratchBuffer scratch;
+    ProductCut cut;
+    SplitWeighting weighting;
+    GatherTree tree;
+    std::vector<WeightedGatherPoint> points;
+    std::vector<Vsp> vsps;
+    std::vector<Vec3> positions;
+    std::vector<RGB> weights;
+    std::vector<float> uniforms;
+};
+
+BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
+    // The point-light set is `vpl`'s, with the emitters as point lights, whole BSDFs at the VPLs
+    // and no clamping: the split weights do what those settings do for `vpl`.
+    if (settings.get_string("lights.direct", "points") != "points")
+        throw UsageError("bdlightcuts: lights.direct must be points (the emitters' split)");
+    if (settings.get_string("vpl.glossy", "bsdf") != "bsdf")
+        throw UsageError("bdlightcuts: vpl.glossy must be bsdf (the diffuse weight replaces it)");
+    if (settings.get_float("vpl.clamp", 0.f) != 0.f)
+        throw UsageError("bdlightcuts: vpl.clamp must be 0 (the clamping weight replaces it)");
+    m_settings = ManyLightSettings::read(settings);
+    m_settings.lights.sampled_direct = false;
+    m_settings.lights.vpl_glossy = GlossyVpls::Bsdf;
+    m_settings.clamp = 0;
+
+    m_samples = settings.get_int("samples", m_samples);
+    m_eye_length = settings.get_int("eye_length", m_eye_length);
+    m_error = settings.get_float("error", m_error);
+    m_max_cut = settings.get_int("max_cut", m_max_cut);
+    m_floor = settings.get_float("floor", m_floor);
+    m_weights.energy = settings.get_bool("energy", m_weights.energy);
+    m_weights.clamp = settings.get_bool("clamp", m_weights.clamp);
+    m_weights.diffuse = settings.get_bool("diffuse", m_weights.diffuse);
+    m_weights.variance = settings.get_bool("variance", m_weights.variance);
+    m_weights.c_clamp = settings.get_float("c_clamp", m_weights.c_clamp);
+    m_weights.c_d = settings.get_float("c_d", m_weights.c_d);
+    m_weights.spread = settings.get_float("spread", m_weights.spread);
+    if (m_samples < 1) throw UsageError("bdlightcuts.samples must be at least 1");
+    if (m_eye_length < 1) throw UsageError("bdlightcuts.eye_length must be at least 1");
+    if (!(m_error >= 0) || m_max_cut < 1)
+        throw UsageError("bdlightcuts: error must be >= 0 and max_cut >= 1");
+    if (!(m_floor >= 0)) throw UsageError("bdlightcuts.floor must be >= 0");
+    if (!(m_weights.c_clamp > 0) || !(m_weights.c_d > 0) || !(m_weights.spread > 0))
+        throw UsageError("bdlightcuts: c_clamp, c_d and spread must be > 0");
+}
+
+RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
+                                     float filter_weight) const {
+    RGB L, beta(1.f);
+    float prefix = 0, theta = 0;
+    // The split at the last non-delta eye vertex, waiting for D at the next vertex.
+    bool pending = false;
+    float pending_m = 0, pending_mu = 1;
+    Vec3 pending_p;
+    int vsps = 0;
+    SurfaceInteraction si;
+    for (int depth = 0;; ++depth) {  // depth: scattering vertices before this hit
+        bool hit = scene.intersect(ray, &si);
+        float t_prev = 1.f;
+        if (pending && hit) t_prev = 1.f / std::max(1e-12f, length_squared(si.p - pending_p));
+        RGB le = emission_along(scene, ray, hit ? &si : nullptr, true, 0.f, {}, nullptr);
+        if (!le.is_black()) {
+            // The last split: what the earlier ones left, x_{j+1} being the emitter.
+            float pre = prefix;
+            if (pending) {
+                float dk = hit ? abs_dot(si.ng, si.wo) / kPi : 0.f;
+                pre += split_weight(m_weights, pre, pending_m * t_prev * dk, dk, pending_mu);
+            }
+            L += beta * le * emission_weight(m_weights, pre, spread_mu(m_weights, theta));
+        }
+        if (!hit || depth >= m_settings.max_depth || vsps >= m_eye_length) break;
+        Bsdf bsdf = hit_bsdf(si, ts.scratch);
+        if (!bsdf) break;
+        Vec3 n = bsdf.frame().n;
+        if (bsdf.has_nonspecular()) {
+            ts.vsps.push_back({prefix, pending ? pending_m * t_prev : -1.f, pending_mu,
+                               spread_mu(m_weights, theta), depth + 1});
+            ts.points.push_back(
+                {GatherPoint{si, bsdf, beta}, filter_weight, RGB(), int32_t(ts.vsps.size() - 1)});
+            ts.uniforms.push_back(sampler.get_1d());
+            ++vsps;
+        }
+        float uc = sampler.get_1d();
+        Vec2 u = sampler.get_2d();
+        auto bs = bsdf.sample(si.wo, uc, u);
+        if (!bs) break;
+        if (bs->is_specular()) {
+            pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
+        } else {
+            float f = bsdf.eval(si.wo, bs->wi).max_component();
+            if (pending) {
+                float d = f * abs_dot(si.wo, n);
+                prefix += split_weight(m_weights, prefix, pending_m * t_prev * d, d, pending_mu);
+            }
+            pending = true;
+            pending_m = f * abs_dot(bs->wi, si.ns);
+            pending_mu = spread_mu(m_weights, theta);
+            pending_p = si.p;
+            theta += lobe_spread(pending_m);
+        }
+        beta *= bs->f * (abs_dot(bs->wi, n) / bs->pdf_solid_angle);
+        if (beta.is_black() || !beta.is_finite()) break;
+        ray = spawn_ray(si, bs->wi);
+    }
+    return L;
+}
+
+RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
+    m_settings.use_render_seed(ctx.seed);
+    m_settings.lights.camera = &ctx.camera;
+    SampledDirectLight unused_direct;
+    build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
+    m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
+    m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0;
+    // Each light node's flux, children before parents (whatever order the tree stores them).
+    std::vector<RGB> node_flux(m_tree.node_count());
+    std::vector<uint8_t> summed(m_tree.node_count(), 0);
+    for (PointLightKind kind : kAllPointLightKinds) {
+        if (m_tree.root(kind) < 0) continue;
+        std::vector<int32_t> stack{m_tree.root(kind)};
+        while (!stack.empty()) {
+            int32_t n = stack.back();
+            const LightTreeNode& L = m_tree.node(n);
+            if (L.is_leaf()) {
+                node_flux[size_t(n)] = light_flux(m_set, m_set.lights[size_t(L.light)]);
+            } else if (!summed[size_t(L.children[0])] || !summed[size_t(L.children[1])]) {
+                for (int32_t c : L.children)
+                    if (!summed[size_t(c)]) stack.push_back(c);
+                continue;
+            } else {
+                node_flux[size_t(n)] =
+                    node_flux[size_t(L.children[0])] + node_flux[size_t(L.children[1])];
+            }
+            summed[size_t(n)] = 1;
+            stack.pop_back();
+        }
+    }
+    ThreadLocal<ThreadState> states([&] {
+        SplitWeighting w(m_set, m_weights, m_settings.max_depth);
+        w.node_flux = node_flux;
+        return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings),
+                           std::move(w));
+    });
+    m_floor_luminance = 0;
+    if (m_floor > 0)
+        m_floor_luminance = float(
+            m_floor * pilot_mean_luminance(ctx.film.width(), ctx.film.height(), [&](Point2i pixel) {
+                return estimate_pass(ctx, states.local(), pixel, 0, kPilotMaxCut).value;
+            }));
+    const int passes = (ctx.spp + m_samples - 1) / m_samples;
+    const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
+        ThreadState& ts = states.local();
+        for (int64_t p = p0; p < p1; ++p) {
+            PassEstimate e = estimate_pass(ctx, ts, pixel, int(p), m_max_cut);
+            if (e.weight_sum == 0) continue;
+            ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
+            m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
+            m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
+            m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
+            if (e.pairs >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
+        }
+    }));
+
+    RenderResult result;
+    result.spp = done * m_samples;
+    result.point_lights = m_set.lights.size();
+    result.vpls = m_set.vpls;
+    double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
+    double pixels = double(ctx.film.width()) * ctx.film.height();
+    nlohmann::json figures = {{"samples", m_samples},
+                              {"eye_length", m_eye_length},
+                              {"error", m_error},
+                              {"max_cut", m_max_cut},
+                              {"floor", m_floor},
+                              {"floor_luminance", m_floor_luminance},
+                              {"weights",
+                               {{"energy", m_weights.energy},
+                                {"clamp", m_weights.clamp},
+                                {"diffuse", m_weights.diffuse},
+                                {"variance", m_weights.variance},
+                                {"c_clamp", m_weights.c_clamp},
+                                {"c_d", m_weights.c_d},
+                                {"spread", m_weights.spread}}},
+                              {"passes", done},
+                              {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
+                              {"capped_fraction", double(m_capped.load()) / pixel_passes},
+                              {"vsps_per_pixel_pass", double(m_vsps.load()) / pixel_passes},
+                              {"shadow_rays_per_pixel", double(stats::total().shadow) / pixels},
+                              {"tree_build_seconds", m_tree_seconds}};
+    figures.update(many_light_figures(m_set, unused_direct));
+    result.stats["bdlightcuts"] = figures;
+    double capped = double(m_capped.load()) / pixel_passes;
+    std::string warning = capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set);
+    if (!warning.empty()) result.warnings.push_back(warning);
+    return result;
+}
+
+BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
+                                                                         ThreadState& ts,
+                                                                         Point2i pixel, int pass,
+                                                                         int max_cut) const {
+    const Scene& scene = ctx.scene;
+    Sampler& sampler = *ts.sampler;
+    ts.points.clear();
+    ts.vsps.clear();
+    ts.uniforms.clear();
+    // 1. The pass's eye paths: their VSPs, and the emission they meet, weighted by filter.
+    RGB known;
+    double weight_sum = 0;
+    for (int s = 0; s < m_samples; ++s) {
+        sampler.start_pixel_sample(pixel, pass * m_samples + s);
+        float weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
+        size_t first = ts.points.size();
+        RGB L = trace_eye(scene, ray, sampler, ts, weight);
+        if (!L.is_finite()) {
+            ts.points.resize(first);
+            ts.uniforms.resize(first);
+            continue;
+        }
+        known += L * weight;
+        weight_sum += weight;
+    }
+    PassEstimate out;
+    if (weight_sum == 0) {
+        ts.scratch.reset();
+        return out;
+    }
+    float inv_weight = float(1.0 / weight_sum);
+    known *= inv_weight;
+
+    // 2. The VSP tree (the gather tree over the pass's VSPs, weighted by their share of the
+    // pixel), and 3. the product cut with every pair weighted by its split weight.
+    ts.positions.clear();
+    ts.weights.clear();
+    for (WeightedGatherPoint& p : ts.points) {
+        p.a *= inv_weight;
+        p.w = p.g.beta * p.a;
+        ts.positions.push_back(p.g.si.p);
+        ts.weights.push_back(p.w);
+    }
+    int spare = ts.tree.build(ts.positions, ts.weights, ts.uniforms);
+    RGB C;
+    int pairs = 0;
+    if (spare >= 0) {
+        ts.weighting.vsps = &ts.vsps;
+        ts.cut.set_pair_weight(&ts.weighting);
+        int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
+        C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, CutCriterion::Max, 1,
+                          m_floor_luminance);
+        pairs = int(ts.cut.pairs().size());
+    }
+    ts.scratch.reset();
+    out.value = known + C;
+    out.weight_sum = weight_sum;
+    out.pairs = pairs;
+    out.vsps = ts.points.size();
+    return out;
+}
+
+}  // namespace ml

@@ -1,0 +1,72 @@
+// Bidirectional Lightcuts (Walter, Khungurn and Bala 2012; seed 003). Each pixel pass traces
+// `bdlightcuts.samples` eye paths; every vertex with a non-delta part, up to
+// `bdlightcuts.eye_length` of them per path, is a virtual sensor point (VSP), as the light paths'
+// vertices are VPLs (the `vpl` set: emitters as point lights plus VPLs, which the VSP-VPL
+// joins of every split cover). Every VSP of the pass is joined to every point light by one
+// multidimensional cut through the product of the VSP tree and the light tree (the product cut
+// of `mdlightcuts`, manylight/product_cut.h), each pair weighted by its split weight
+// (split_weights.h), which replaces VPL clamping. Emission met by the eye paths counts with the
+// weight the earlier splits left (the last split). With the energy weight alone the weights put
+// everything on the first connectable eye vertex: the unbiased `vpl`/`mdlightcuts` estimator
+// without clamping; clamping, diffuse VPLs and the spread exclusion move energy to longer eye
+// paths or drop it.
+#pragma once
+
+#include <atomic>
+#include <vector>
+
+#include "integrators/bdlightcuts/split_weights.h"
+#include "manylight/light_tree.h"
+#include "manylight/many_lights.h"
+#include "manylight/point_light_set.h"
+#include "manylight/product_cut.h"
+#include "render/integrator.h"
+#include "render/settings.h"
+
+namespace ml {
+
+class BdLightcutsIntegrator final : public Integrator {
+public:
+    explicit BdLightcutsIntegrator(const Settings& settings);
+    std::string name() const override { return "bdlightcuts"; }
+    RenderResult render(const RenderContext& ctx) override;
+
+    // What a VSP at eye vertex x_j keeps for its pairs' weights.
+    struct Vsp {
+        float prefix = 0;       // w_1 + ... + w_{j-2}: the weights fixed by the eye path alone
+        float pending_mt = -1;  // M_{j-1} T_{j-1,j}, for w_{j-1} (< 0: split j-1 is impossible)
+        float pending_mu = 1;   // mu_{j-1}
+        float mu = 1;           // mu_j
+        int depth = 1;          // scattering vertices of the eye path up to x_j
+    };
+
+private:
+    struct ThreadState;
+    struct PassEstimate {
+        RGB value;
+        double weight_sum = 0;
+        int pairs = 0;
+        size_t vsps = 0;
+    };
+    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
+                               int max_cut) const;
+    // One eye path: its VSPs into ts, the weighted emission it meets returned.
+    RGB trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
+                  float filter_weight) const;
+
+    ManyLightSettings m_settings;
+    // Defaults: bench/RESULTS.md, "Issue 17, Bidirectional Lightcuts".
+    SplitWeightOptions m_weights;
+    int m_samples = 16;
+    int m_eye_length = 2;
+    float m_error = 0.1f;
+    int m_max_cut = 300;
+    float m_floor = 1.0f;
+    float m_floor_luminance = 0;
+    PointLightSet m_set;
+    LightTree m_tree;
+    double m_tree_seconds = 0;
+    mutable std::atomic<uint64_t> m_pair_sum{0}, m_pixel_passes{0}, m_vsps{0}, m_capped{0};
+};
+
+}  // namespace ml

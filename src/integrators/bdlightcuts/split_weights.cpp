@@ -1,0 +1,31 @@
+#include "integrators/bdlightcuts/split_weights.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/math.h"
+
+namespace ml {
+
+float lobe_spread(float m) {
+    if (!(m > 0)) return kInfinity;
+    return 1.f / std::sqrt(kPi * m);
+}
+
+float split_weight(const SplitWeightOptions& o, float prefix, float mtd, float d, float mu) {
+    float w = 1.f;
+    if (o.energy) w = std::min(w, 1.f - prefix);
+    if (o.clamp && mtd > 0) w = std::min(w, o.c_clamp / mtd);
+    if (o.diffuse && d > 0) w = std::min(w, o.c_d / d);
+    if (o.variance) w = std::min(w, mu - prefix);
+    return std::isnan(w) ? 0.f : std::max(0.f, w);
+}
+
+float emission_weight(const SplitWeightOptions& o, float prefix, float mu) {
+    float w = 1.f;
+    if (o.energy) w = std::min(w, 1.f - prefix);
+    if (o.variance) w = std::min(w, mu - prefix);
+    return std::max(0.f, w);
+}
+
+}  // namespace ml

@@ -1,0 +1,297 @@
+// Bidirectional Lightcuts (seed 003): the split weights of split_weights.h each checked alone,
+// where they act and where they do not; with the energy weight alone (the unbiased limit) and
+// with clamping recovered by long enough eye paths, `bdlightcuts` agrees with `bdpt` per colour
+// channel (Cornell box, a glossy plane); with the weights on, the bias is a darkening no larger
+// than the clamps' loss at eye-path length 1.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "bidir_test_helpers.h"
+#include "integrators/bdlightcuts/split_weights.h"
+#include "render_helpers.h"
+#include "shared_files.h"
+
+using namespace ml;
+using Set = std::map<std::string, std::string>;
+
+namespace {
+
+// Small renders: few VPLs, a tight cut.
+Set bdlc(const Set& extra) {
+    Set s = {{"vpl.count", "1500"}, {"bdlightcuts.samples", "8"}, {"bdlightcuts.error", "0.02"}};
+    for (const auto& [k, v] : extra) s[k] = v;
+    return s;
+}
+
+// Weights on or off (energy, clamp, diffuse, variance) and the eye-path length.
+Set weights(bool e, bool c, bool d, bool v, int eye_length) {
+    auto b = [](bool x) { return std::string(x ? "true" : "false"); };
+    return {{"bdlightcuts.energy", b(e)},
+            {"bdlightcuts.clamp", b(c)},
+            {"bdlightcuts.diffuse", b(d)},
+            {"bdlightcuts.variance", b(v)},
+            {"bdlightcuts.eye_length", std::to_string(eye_length)}};
+}
+
+Set merge(Set a, const Set& b) {
+    for (const auto& [k, v] : b) a[k] = v;
+    return a;
+}
+
+std::string cornell_text() {
+    std::ifstream in(test::shared_path("scenes/cornell-box/scene-v4.pbrt"));
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A rough conductor floor under a small area light, seen at a grazing angle, and a diffuse wall
+// behind: glossy reflections of the light and of the lit wall.
+const char* kGlossyPlane = R"(
+LookAt 0 1.2 3  0 0.3 0  0 1 0
+Camera "perspective" "float fov" [ 45 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+Sampler "independent"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 12 12 10 ]
+  Shape "trianglemesh" "point3 P" [ -0.4 2 -0.8  0.4 2 -0.8  0.4 2 -1.6  -0.4 2 -1.6 ]
+    "integer indices" [ 0 2 1 0 3 2 ]
+AttributeEnd
+Material "conductor" "float roughness" [ 0.15 ] "rgb reflectance" [ 0.9 0.7 0.5 ]
+Shape "trianglemesh" "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ]
+  "integer indices" [ 0 1 2 0 2 3 ]
+Material "diffuse" "rgb reflectance" [ 0.3 0.5 0.7 ]
+Shape "trianglemesh" "point3 P" [ -3 0 -2  3 0 -2  3 3 -2  -3 3 -2 ]
+  "integer indices" [ 0 1 2 0 2 3 ]
+)";
+
+// The image-mean difference a - b in channel c in standard deviations of the runs' noise.
+double image_z(const test::TwoRenders& a, const test::TwoRenders& b, int c, double* rel) {
+    auto stats = [&](const test::TwoRenders& r) {
+        std::vector<double> m;
+        for (const Image* img : r.all()) m.push_back(test::channel_stats(*img, c).mean);
+        double mean = 0, var = 0;
+        for (double x : m) mean += x;
+        mean /= double(m.size());
+        for (double x : m) var += (x - mean) * (x - mean);
+        return std::pair{mean, var / double(m.size() - 1) / double(m.size())};
+    };
+    auto [ma, va] = stats(a);
+    auto [mb, vb] = stats(b);
+    *rel = (ma - mb) / mb;
+    return (ma - mb) / std::sqrt(va + vb);
+}
+
+// The BDPT references, rendered once for all the tests.
+const test::TwoRenders& cornell_reference() {
+    static const test::TwoRenders r = test::render_twice(cornell_text(), "bdpt", 64, 4, 16, {}, 3);
+    return r;
+}
+const test::TwoRenders& glossy_reference() {
+    static const test::TwoRenders r = test::render_twice(kGlossyPlane, "bdpt", 64, 3, 16, {}, 3);
+    return r;
+}
+
+// The mean per-pixel difference a - b in channel c of the runs' mean images, renders with the
+// same seeds (the same VPLs and eye paths), in standard errors of the pixels' differences
+// (render_helpers.h: mean_difference), and relative to b's mean. Where a weight cannot act the
+// two images are the same to the bit (WeightsThatCannotActChangeNothing), so a weight that acts
+// is told by a clear darkening, rel well below 0.
+Image run_mean(const test::TwoRenders& r) {
+    std::vector<const Image*> all = r.all();
+    Image m = *all[0];
+    for (size_t k = 1; k < all.size(); ++k)
+        for (size_t i = 0; i < m.pixels.size(); ++i) m.pixels[i] = m.pixels[i] + all[k]->pixels[i];
+    for (RGB& p : m.pixels) p = p * (1.f / float(all.size()));
+    return m;
+}
+double paired_z(const test::TwoRenders& a, const test::TwoRenders& b, int c, double* rel) {
+    test::MeanDifference d = test::mean_difference(run_mean(a), run_mean(b), c);
+    *rel = d.mean / d.reference_mean;
+    return d.mean / d.stderr_of_mean;
+}
+
+bool same_image(const Image& a, const Image& b) {
+    for (size_t i = 0; i < a.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            if (a.pixels[i][c] != b.pixels[i][c]) return false;
+    return true;
+}
+
+}  // namespace
+
+TEST(BdLightcuts, SplitWeightsEachAloneActWhereTheyShould) {
+    SplitWeightOptions o;
+    o.c_clamp = 2.f, o.c_d = 0.5f, o.spread = 1.f;
+    auto only = [&](int k) {
+        SplitWeightOptions r = o;
+        r.energy = k == 0, r.clamp = k == 1, r.diffuse = k == 2, r.variance = k == 3;
+        return r;
+    };
+    // Energy: 1 - (earlier weights).
+    EXPECT_FLOAT_EQ(split_weight(only(0), 0.f, 100.f, 100.f, 0.f), 1.f);
+    EXPECT_FLOAT_EQ(split_weight(only(0), 0.3f, 100.f, 100.f, 0.f), 0.7f);
+    EXPECT_FLOAT_EQ(split_weight(only(0), 1.f, 0.f, 0.f, 1.f), 0.f);
+    // Clamping: C_clamp / (M T D) where that is below 1.
+    EXPECT_FLOAT_EQ(split_weight(only(1), 0.9f, 8.f, 100.f, 0.f), 0.25f);
+    EXPECT_FLOAT_EQ(split_weight(only(1), 0.9f, 1.5f, 100.f, 0.f), 1.f);
+    // Diffuse VPLs: C_D / D.
+    EXPECT_FLOAT_EQ(split_weight(only(2), 0.9f, 100.f, 2.f, 0.f), 0.25f);
+    EXPECT_FLOAT_EQ(split_weight(only(2), 0.9f, 100.f, 0.3f, 0.f), 1.f);
+    // Variance: mu - (earlier weights), never below 0.
+    EXPECT_FLOAT_EQ(split_weight(only(3), 0.1f, 100.f, 100.f, 0.4f), 0.3f);
+    EXPECT_FLOAT_EQ(split_weight(only(3), 0.f, 100.f, 100.f, 1.f), 1.f);
+    EXPECT_FLOAT_EQ(split_weight(only(3), 0.5f, 100.f, 100.f, 0.2f), 0.f);
+    // All together: the smallest.
+    EXPECT_FLOAT_EQ(split_weight(o, 0.2f, 4.f, 1.f, 0.9f), 0.5f);
+    // mu: 1 up to half the spread, 0 from the spread on; a diffuse lobe (M = 1/pi) spreads 1.
+    EXPECT_FLOAT_EQ(spread_mu(o, 0.4f), 1.f);
+    EXPECT_FLOAT_EQ(spread_mu(o, 0.75f), 0.5f);
+    EXPECT_FLOAT_EQ(spread_mu(o, 1.f), 0.f);
+    EXPECT_NEAR(lobe_spread(1.f / kPi), 1.f, 1e-6f);
+    EXPECT_FLOAT_EQ(emission_weight(only(0), 0.25f, 0.f), 0.75f);
+}
+
+TEST(BdLightcuts, EnergyWeightAloneAgreesWithBdptOnTheCornellBox) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    std::string scene = cornell_text();
+    const auto& ref = cornell_reference();
+    for (int eye : {1, 3}) {
+        auto b = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                    bdlc(weights(true, false, false, false, eye)), 3);
+        test::expect_agreement(b, ref, 8, "energy weight alone, eye_length " + std::to_string(eye));
+    }
+}
+
+TEST(BdLightcuts, EnergyWeightAloneAgreesWithBdptOnAGlossyPlane) {
+    const auto& ref = glossy_reference();
+    auto b = test::render_twice(kGlossyPlane, "bdlightcuts", 16, 3, 16,
+                                bdlc(weights(true, false, false, false, 2)), 3);
+    test::expect_agreement(b, ref, 8, "energy weight alone, glossy plane");
+}
+
+TEST(BdLightcuts, WithoutTheEnergyWeightEmissionCountsTwice) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    // Eye-path length 1 with no weight at all: the eye path's emission after its VSP counts
+    // whole besides the VPLs' connection, so the image gains the direct light once more. The
+    // difference agrees with the one-bounce path tracer's image (path at maxdepth 1) minus the
+    // emission seen directly (maxdepth 0).
+    std::string scene = cornell_text();
+    auto off = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                  bdlc(weights(false, false, false, false, 1)), 3);
+    auto on = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                 bdlc(weights(true, false, false, false, 1)), 3);
+    auto d1 = test::render_twice(scene, "path", 64, 1, 16, {}, 3);
+    auto d0 = test::render_twice(scene, "path", 64, 0, 16, {}, 3);
+    auto difference = [](const test::TwoRenders& x, const test::TwoRenders& y) {
+        test::TwoRenders r = x;
+        std::vector<const Image*> ys = y.all();
+        std::vector<Image*> rs = {&r.a, &r.b};
+        for (Image& m : r.more) rs.push_back(&m);
+        for (size_t k = 0; k < rs.size(); ++k)
+            for (size_t i = 0; i < rs[k]->pixels.size(); ++i)
+                rs[k]->pixels[i] = rs[k]->pixels[i] - ys[k]->pixels[i];
+        return r;
+    };
+    test::expect_agreement(difference(off, on), difference(d1, d0), 8,
+                           "energy weight off: the direct light twice");
+}
+
+TEST(BdLightcuts, WeightsThatCannotActChangeNothing) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    std::string scene = cornell_text();
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 8;
+    opt.width = opt.height = 16;
+    opt.seed = 3;
+    opt.sampler = "independent";
+    opt.set = bdlc(weights(true, false, false, false, 1));
+    Image energy = test::render_text(scene, opt).image;
+    // Diffuse VPLs: a Lambertian lobe's D = albedo cos / pi stays below C_D = 1.
+    opt.set = bdlc(merge(weights(true, false, true, false, 1), {{"bdlightcuts.c_d", "1"}}));
+    EXPECT_TRUE(same_image(test::render_text(scene, opt).image, energy)) << "diffuse";
+    // Variance: the first eye vertex has no spread (mu_1 = 1).
+    opt.set = bdlc(weights(true, false, false, true, 1));
+    EXPECT_TRUE(same_image(test::render_text(scene, opt).image, energy)) << "variance";
+    // And the diffuse weight does act at a small C_D.
+    opt.set = bdlc(merge(weights(true, false, true, false, 1), {{"bdlightcuts.c_d", "0.01"}}));
+    EXPECT_FALSE(same_image(test::render_text(scene, opt).image, energy)) << "diffuse acts";
+}
+
+TEST(BdLightcuts, ClampingThatNoConnectionReachesIsUnbiased) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    // The clamping weight also bounds the cut's cluster pairs (C_clamp x strength x flux), so its
+    // images differ from the energy weight's in the cut even where no weight is below 1: they
+    // agree with BDPT within the noise.
+    auto b = test::render_twice(
+        cornell_text(), "bdlightcuts", 16, 4, 16,
+        bdlc(merge(weights(true, true, false, false, 1), {{"bdlightcuts.c_clamp", "1e30"}})), 3);
+    test::expect_agreement(b, cornell_reference(), 8, "clamping at C_clamp 1e30");
+}
+
+TEST(BdLightcuts, ClampedEnergyIsRecoveredByLongerEyePathsUnlessSpreadExcludesThem) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    std::string scene = cornell_text();
+    const auto& ref = cornell_reference();
+    const Set clamp = {{"bdlightcuts.c_clamp", "0.001"}};
+    // Eye-path length 1: the clamped part of each connection is lost, a darkening well beyond
+    // the noise in every channel.
+    auto short_eye =
+        test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                           bdlc(merge(weights(true, true, false, false, 1), clamp)), 3);
+    auto energy = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                     bdlc(weights(true, false, false, false, 1)), 3);
+    for (int c = 0; c < 3; ++c) {
+        double rel = 0, z = paired_z(short_eye, energy, c, &rel);
+        EXPECT_LT(rel, -0.05) << "channel " << c << ", z " << z;
+    }
+    // Eye paths as long as the paths (maxdepth 4, and the emission after the last VSP): the
+    // later splits and the eye path's own emission take what clamping left; no bias.
+    auto long_eye = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                       bdlc(merge(weights(true, true, false, false, 4), clamp)), 3);
+    test::expect_agreement(long_eye, ref, 8, "clamping with eye_length 4");
+    // With the variance weight and a spread below a diffuse lobe's, no eye path goes past a
+    // diffuse vertex: the loss of eye-path length 1 again (within the noise).
+    auto excluded = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                       bdlc(merge(weights(true, true, false, true, 4),
+                                                  merge(clamp, {{"bdlightcuts.spread", "0.9"}}))),
+                                       3);
+    test::expect_agreement(excluded, short_eye, 8, "variance weight: as eye_length 1");
+}
+
+TEST(BdLightcuts, DiffuseWeightActsOnGlossyVplsAndLongerEyePathsRecoverIt) {
+    const auto& ref = glossy_reference();
+    const Set cd = {{"bdlightcuts.c_d", "0.01"}};
+    auto short_eye = test::render_twice(kGlossyPlane, "bdlightcuts", 16, 3, 16,
+                                        bdlc(merge(weights(true, false, true, false, 1), cd)), 3);
+    auto energy = test::render_twice(kGlossyPlane, "bdlightcuts", 16, 3, 16,
+                                     bdlc(weights(true, false, false, false, 1)), 3);
+    for (int c = 0; c < 3; ++c) {
+        double rel = 0, z = paired_z(short_eye, energy, c, &rel);
+        EXPECT_LT(rel, -0.05) << "channel " << c << ", z " << z;
+    }
+    auto long_eye = test::render_twice(kGlossyPlane, "bdlightcuts", 16, 3, 16,
+                                       bdlc(merge(weights(true, false, true, false, 3), cd)), 3);
+    test::expect_agreement(long_eye, ref, 8, "diffuse weight with eye_length 3");
+}
+
+TEST(BdLightcuts, DefaultWeightsDarkenNoMoreThanTheClampsAllow) {
+    ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
+    // All four weights: the sum over the splits is at most 1 and at least the first split's
+    // weight, so the image lies between the eye-length-1 image with the same clamps (all of the
+    // clamped energy lost) and the unbiased one.
+    std::string scene = cornell_text();
+    const auto& ref = cornell_reference();
+    auto full = test::render_twice(scene, "bdlightcuts", 16, 4, 16, bdlc({}), 3);
+    auto lower = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                    bdlc({{"bdlightcuts.eye_length", "1"}}), 3);
+    for (int c = 0; c < 3; ++c) {
+        double rel = 0;
+        EXPECT_LT(image_z(full, ref, c, &rel), 4) << "above the reference, channel " << c;
+        EXPECT_GT(image_z(full, lower, c, &rel), -4) << "below the clamps' loss, channel " << c;
+    }
+}
