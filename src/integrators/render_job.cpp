@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <sys/resource.h>
+
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -13,6 +15,7 @@
 #include "film/film.h"
 #include "film/filter.h"
 #include "integrators/registry.h"
+#include "scene/default_scene.h"
 #include "scene/scene.h"
 
 namespace ml {
@@ -186,7 +189,7 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
     const std::string& name = plan.name;
     ThreadLimit limit(threads);
     Film film(width, height, plan.max_component, plan.imaging_ratio);
-    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress);
+    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress, opt.on_progress);
     RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,     *plan.sampler,
                       plan.spp, opt.time_limit, &progress,    plan.seed};
     ctx.cancel = opt.cancel;
@@ -255,6 +258,22 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     }
     out.figures.seconds_build = build;
     return run_plan(plan, *scene, opt, std::move(out));
+}
+
+LoadedScene load_scene(const std::string& path) {
+    auto t0 = std::chrono::steady_clock::now();
+    LoadedScene loaded{path.empty() ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
+                                    : parse_scene_file(path)};
+    loaded.seconds_load = seconds_since(t0);
+    return loaded;
+}
+
+RenderOutput render_loaded_scene(LoadedScene scene, const RenderOptions& options) {
+    RenderOutput out = render_scene(std::move(scene.desc), options);
+    out.figures.seconds_load = scene.seconds_load;
+    struct rusage usage {};
+    if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;
+    return out;
 }
 
 RenderOutput render_built_scene(const Scene& scene, const RenderOptions& opt) {
