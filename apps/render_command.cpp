@@ -37,7 +37,9 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
     r->add_option("--time-limit", a.time_limit, "render progressively for this many seconds")
         ->check(positive_seconds());
     // One value per flag, so that `--set a.b=1 scene.pbrt` leaves the scene positional.
-    r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)")
+    r->add_option("--set", a.set,
+                  "integrator setting NAME.KEY=VALUE (repeatable; `manylight integrators` lists "
+                  "them with their defaults)")
         ->allow_extra_args(false)
         ->check(setting());
     r->add_option("--stats", a.stats, "write figures as JSON to this file")

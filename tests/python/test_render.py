@@ -135,6 +135,29 @@ def test_integrators_lists_names_settings_and_defaults():
     assert listed["pssmlt"]["settings"]["pssmlt.large_step_prob"] == 0.3
 
 
+def test_the_command_line_lists_the_same_settings(binary):
+    text = subprocess.run([str(binary), "integrators"], capture_output=True, text=True,
+                          check=True).stdout
+    listed = {}
+    for line in text.splitlines():
+        if not line.startswith("  "):
+            name = line.split(":")[0]
+            listed[name] = {}
+        else:
+            key, rest = line.strip().split("=", 1)
+            listed[name][key] = rest.rsplit(" (", 1)[0]
+    expected = manylight.integrators()
+    assert list(listed) == list(expected)
+    for name, entry in expected.items():
+        assert list(listed[name]) == list(entry["settings"]), name
+        for key, value in entry["settings"].items():
+            text = listed[name][key]
+            if isinstance(value, bool):
+                assert text == ("true" if value else "false")
+            else:
+                assert type(value)(text) == value, key
+
+
 # Settings that make the slow defaults small; the rest keep their listed defaults.
 SMALL = {"vpl.count": 300, "igi.vpls": 300, "mlt.bootstrap": 2000, "cmlt.bootstrap": 2000,
          "pssmlt.bootstrap": 2000, "pssmlt.chains": 50, "mlt.chains": 16, "cmlt.chains": 16}
