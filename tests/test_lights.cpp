@@ -157,14 +157,14 @@ TEST(Lights, AreaLightIrradianceMatchesQuadrature) {
     for (int i = 0; i < 100; ++i) {
         auto s = l->sample_li(ctx, next2(rng));
         ASSERT_TRUE(s);
-        EXPECT_NEAR(l->pdf_li(ctx, s->wi, s->p_light, s->n_light), s->pdf_solid_angle,
+        EXPECT_NEAR(l->pdf_li(ctx, s->wi, s->p_light, s->n_light, s->prim), s->pdf_solid_angle,
                     1e-4f * s->pdf_solid_angle);
         expect_rgb_near(l->radiance(s->p_light, s->n_light, {}, -s->wi), s->L, 1e-6f, "L");
     }
     // One-sided: nothing above; two-sided: the same irradiance mirrored.
     LightSampleContext above{{0.2f, 0.3f, 2}, {0, 0, -1}, {0, 0, -1}};
     EXPECT_FALSE(l->sample_li(above, {0.3f, 0.3f}));
-    EXPECT_EQ(l->pdf_li(above, {0, 0, -1}, {0.2f, 0.3f, 1}, {0, 0, -1}), 0.f);
+    EXPECT_EQ(l->pdf_li(above, {0, 0, -1}, {0.2f, 0.3f, 1}, {0, 0, -1}, 0), 0.f);
     auto two = create_area_light("diffuse",
                                  params({num_param("rgb", "L", {2, 1, 0.5f}),
                                          [] {
@@ -271,7 +271,7 @@ void check_image_light(int w, int h, const char* what) {
             if (!s) return std::nullopt;
             return s->wi;
         },
-        [&](const Vec3& w) { return double(lm->pdf_li(ctx, w, {}, {})); },
+        [&](const Vec3& w) { return double(lm->pdf_li(ctx, w, {}, {}, 0)); },
         {.theta_res = 16, .phi_res = 32, .sample_count = 400000, .quadrature_depth = 5});
     EXPECT_GT(r.p_value, 0.001) << what << ": " << r.message;
     std::string path = write_temp(spiky_image(w, h, 500), std::string("env_") + what + ".pfm");
@@ -287,7 +287,7 @@ void check_image_light(int w, int h, const char* what) {
     for (int i = 0; i < n; ++i) {
         auto s = l->sample_li(ctx, next2(rng));
         ASSERT_TRUE(s);
-        float pdf = l->pdf_li(ctx, s->wi, {}, {});
+        float pdf = l->pdf_li(ctx, s->wi, {}, {}, 0);
         EXPECT_NEAR(pdf, s->pdf_solid_angle, 2e-3f * s->pdf_solid_angle) << what;
         Ray ray{ctx.p, s->wi};
         expect_rgb_near(l->radiance_escaped(ray), s->L, 1e-6f, what);

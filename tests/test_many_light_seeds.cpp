@@ -93,7 +93,7 @@ TEST(ManyLightSeeds, TwoSeedsGiveDifferentVplSets) {
 // gives exactly vpl.seed=1's image, and vpl.seed=2 another; so --seed 1 and --seed 2 shade with
 // different point lights and representatives (TwoSeedsGiveDifferentVplSets).
 TEST(ManyLightSeeds, TheRenderSeedReachesTheLightsAndRepresentatives) {
-    for (const char* integrator : {"vpl", "lightcuts", "mdlightcuts"}) {
+    for (const char* integrator : {"vpl", "lightcuts", "mdlightcuts", "stochasticlightcuts"}) {
         RenderOptions opt = options(integrator, 1);
         Image by_render_seed = render(opt);
         opt.set["vpl.seed"] = "1";
@@ -123,7 +123,7 @@ Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ] "point3 P" [ -4 0 -4  4 0
 }
 
 TEST(ManyLightSeeds, OneSeedGivesTheSameImageAtOneAndTwoThreads) {
-    for (const char* integrator : {"vpl", "lightcuts", "mdlightcuts"}) {
+    for (const char* integrator : {"vpl", "lightcuts", "mdlightcuts", "stochasticlightcuts"}) {
         Image one = render(options(integrator, 4, 1));
         Image two = render(options(integrator, 4, 2));
         EXPECT_TRUE(identical(one, two)) << integrator;

@@ -80,24 +80,17 @@ struct BruteForce {
                to_area(p, v[size_t(k)]);
     }
 
-    // Area density of vertex k made from the light side; the light itself by sample_li (s = 1)
-    // or sample_le (s > 1).
-    double light(const MltPath& x, int k, int s) const {
+    // Area density of vertex k made from the light side; the light itself by its area density
+    // (sample_le's origin, for s = 1 as for s > 1).
+    double light(const MltPath& x, int k) const {
         const auto& v = x.v;
         const int n = int(v.size());
         const PathVertex& l = v.back();
         float pos = 0, sa = 0;
         if (k == n - 1) {
             double pmf = ctx.light_sampler.pmf(l.light);
-            if (s > 1) {
-                l.light->pdf_le(Ray{l.p(), dir(l, v[size_t(n - 2)])}, l.ng(), &pos, &sa);
-                return pmf * pos;
-            }
-            const PathVertex& r = v[size_t(n - 2)];
-            Vec3 wi = dir(r, l);
-            return pmf *
-                   l.light->pdf_li(LightSampleContext{r.p(), r.ng(), r.ns()}, wi, l.p(), l.ng()) *
-                   to_area(r, l);
+            l.light->pdf_le(Ray{l.p(), dir(l, v[size_t(n - 2)])}, l.ng(), &pos, &sa);
+            return pmf * pos;
         }
         if (k == n - 2) {
             l.light->pdf_le(Ray{l.p(), dir(l, v[size_t(k)])}, l.ng(), &pos, &sa);
@@ -115,7 +108,7 @@ struct BruteForce {
         if (s == 1 && t == 1) return 0;
         double p = 1;
         for (int k = a + 1; k < t; ++k) p *= eye(x, k);
-        for (int k = t; k < b; ++k) p *= light(x, k, s);
+        for (int k = t; k < b; ++k) p *= light(x, k);
         return p;
     }
 

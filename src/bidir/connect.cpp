@@ -155,7 +155,7 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                 if (ls && !ls->L.is_black() && ls->pdf_solid_angle > 0) {
                     sampled = PathVertex::light_endpoint(sl->light, ls->p_light, ls->n_light,
                                                          ls->L / (ls->pdf_solid_angle * sl->pmf), 0,
-                                                         ls->p_error);
+                                                         ls->p_error, ls->prim);
                     sampled->si.time = pt.si.time;
                     sampled->pdf_fwd = sampled->pdf_light_origin(ctx, pt);
                     L = pt.beta * pt.f(*sampled, TransportMode::Radiance) * sampled->beta *

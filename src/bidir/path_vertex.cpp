@@ -7,7 +7,8 @@ namespace ml {
 float BdptScene::infinite_light_density(const Vec3& w) const {
     float pdf = 0;
     for (const Light* light : scene.infinite_lights())
-        pdf += light->pdf_li(LightSampleContext{}, -w, Vec3(), Vec3()) * light_sampler.pmf(light);
+        pdf +=
+            light->pdf_li(LightSampleContext{}, -w, Vec3(), Vec3(), 0) * light_sampler.pmf(light);
     return pdf;
 }
 

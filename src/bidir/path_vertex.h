@@ -59,12 +59,14 @@ struct PathVertex {
     }
     // p_error: the error bound of a point on a surface (as SurfaceInteraction's).
     static PathVertex light_endpoint(const Light* light, const Vec3& p, const Vec3& n,
-                                     const RGB& beta, float pdf_fwd, const Vec3& p_error = Vec3()) {
+                                     const RGB& beta, float pdf_fwd, const Vec3& p_error = Vec3(),
+                                     uint32_t prim = 0) {
         PathVertex v;
         v.kind = VertexKind::Light;
         v.light = light;
         v.si.p = p;
         v.si.p_error = p_error;
+        v.si.prim_id = prim;
         v.si.ng = v.si.ns = n;
         v.beta = beta;
         v.pdf_fwd = pdf_fwd;

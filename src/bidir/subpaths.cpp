@@ -91,7 +91,7 @@ int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer
     // The light vertex: its density is the light choice times the position's.
     float pdf_origin = sl->pmf * les->pdf_pos;
     path[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, les->L, pdf_origin,
-                                         les->p_error);
+                                         les->p_error, les->prim);
     path[0].si.time = time;
     float cos_light = les->n_light == Vec3() ? 1.f : abs_dot(les->n_light, les->ray.d);
     RGB beta = les->L * (cos_light / (pdf_origin * les->pdf_dir));

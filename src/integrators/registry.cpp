@@ -9,6 +9,7 @@
 #include "integrators/mlt/mlt.h"
 #include "integrators/path/path.h"
 #include "integrators/pssmlt/pssmlt.h"
+#include "integrators/stochasticlightcuts/stochastic_lightcuts.h"
 #include "integrators/vpl/vpl.h"
 #include "integrators/whitted/whitted.h"
 
@@ -48,6 +49,10 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<VplIntegrator>},
         {"lightcuts", "Lightcuts: the vpl integrator's lights clustered, error-bounded cuts",
          make<LightcutsIntegrator>},
+        {"stochasticlightcuts",
+         "stochastic Lightcuts (Yuksel 2019): lightcuts' cut, then one light per cluster drawn by "
+         "importance: unbiased, no error threshold",
+         make<StochasticLightcutsIntegrator>},
         {"mdlightcuts",
          "multidimensional Lightcuts: one cut through the product of a pixel's gather points and "
          "the light tree",

@@ -1,10 +1,13 @@
-// Diffuse area lights over a whole triangle mesh: a triangle is picked in proportion to its area
-// (O(log n) in the CDF), then a uniform point on it, so the area density is 1 / total area
-// everywhere and pdf_li needs only the hit point and its normal.
+// Diffuse area lights over a whole triangle mesh. For next-event estimation a triangle is picked
+// (small meshes: by its solid angle and the receiver's cosine; large ones: by area, O(log n) in
+// the CDF), then a direction uniformly over the solid angle it subtends, warped towards the
+// receiver's cosine (pbrt-v4's Triangle::Sample); where the triangle looks tiny or huge, a uniform
+// point on it. Paths leaving the light start at a uniform point, area density 1 / total area.
 #include "lights/lights.h"
 #include "lights/point_lights.h"
 #include "sampling/distributions.h"
 #include "sampling/sampler.h"
+#include "sampling/spherical_triangle.h"
 #include "sampling/warps.h"
 
 namespace ml {
@@ -43,29 +46,67 @@ public:
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                            const Vec2& u) const override {
         if (m_area <= 0) return std::nullopt;
-        Vec3 p, n, p_error;
-        sample_point(u, &p, &n, &p_error);
-        Vec3 d = p - ctx.p;
-        float d2 = length_squared(d);
-        if (d2 == 0) return std::nullopt;
-        Vec3 wi = d / std::sqrt(d2);
-        float cos_l = -dot(n, wi);
-        if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return std::nullopt;
+        float pmf_tri = 0, ux = 0;
+        size_t tri = choose_triangle(ctx, u.x, &pmf_tri, &ux);
+        if (!(pmf_tri > 0)) return std::nullopt;
+        Vec3 v[3];
+        corners(tri, v);
+        Vec3 n = m_mesh->triangle_normal(tri);
+        // Seen from behind, a one-sided triangle sends nothing: no sample.
+        if (!m_two_sided && dot(n, ctx.p - v[0]) <= 0) return std::nullopt;
         LightLiSample s;
-        s.wi = wi;
+        float omega = spherical_triangle_solid_angle(v[0], v[1], v[2], ctx.p);
+        if (use_solid_angle(omega)) {
+            Vec2 uu(ux, u.y);
+            float pdf_warp = 1;
+            if (ctx.ns != Vec3()) {
+                float w[4];
+                cosine_weights(ctx, v, w);
+                uu = sample_bilinear(uu, w);
+                pdf_warp = pdf_bilinear_area(uu, w);
+            }
+            auto dir = sample_spherical_triangle(v[0], v[1], v[2], ctx.p, uu);
+            if (!dir) return std::nullopt;
+            auto b = hit_barycentrics(v, ctx.p, *dir);
+            if (!b) return std::nullopt;
+            point_at(v, *b, &s.p_light, &s.p_error);
+            s.pdf_solid_angle = pmf_tri * pdf_warp / omega;
+        } else {
+            point_at(v, sample_uniform_triangle({ux, u.y}), &s.p_light, &s.p_error);
+        }
+        Vec3 d = s.p_light - ctx.p;
+        float d2 = length_squared(d);
+        if (!(d2 > 0)) return std::nullopt;
+        s.wi = d / std::sqrt(d2);
+        float cos_l = -dot(n, s.wi);
+        if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return std::nullopt;
+        if (!use_solid_angle(omega))
+            s.pdf_solid_angle = pmf_tri * d2 / (std::abs(cos_l) * m_mesh->triangle_area(tri));
         s.L = m_L;
-        s.pdf_solid_angle = d2 / (std::abs(cos_l) * m_area);
-        s.p_light = p;
         s.n_light = n;
-        s.p_error = p_error;
+        s.prim = uint32_t(tri);
         return s;
     }
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
-                 const Vec3& n_light) const override {
-        if (m_area <= 0) return 0;
+                 const Vec3& n_light, uint32_t prim) const override {
+        if (m_area <= 0 || prim >= m_mesh->triangle_count()) return 0;
         float cos_l = -dot(n_light, wi);
         if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return 0;
-        return distance_squared(ctx.p, p_light) / (std::abs(cos_l) * m_area);
+        Vec3 v[3];
+        corners(prim, v);
+        float omega = spherical_triangle_solid_angle(v[0], v[1], v[2], ctx.p);
+        float pmf_tri = triangle_pmf(ctx, prim);
+        if (!(pmf_tri > 0)) return 0;
+        if (!use_solid_angle(omega))
+            return pmf_tri * distance_squared(ctx.p, p_light) /
+                   (std::abs(cos_l) * m_mesh->triangle_area(prim));
+        float pdf_warp = 1;
+        if (ctx.ns != Vec3()) {
+            float w[4];
+            cosine_weights(ctx, v, w);
+            pdf_warp = pdf_bilinear_area(invert_spherical_triangle(v[0], v[1], v[2], ctx.p, wi), w);
+        }
+        return pmf_tri * pdf_warp / omega;
     }
     RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const override {
         if (!m_two_sided && dot(n, w) <= 0) return RGB();
@@ -128,14 +169,110 @@ private:
     void sample_point(Vec2 u, Vec3* p, Vec3* n, Vec3* p_error) const {
         float ux;
         size_t tri = m_tri.sample_discrete(u.x, nullptr, &ux);
-        Barycentrics b = sample_uniform_triangle({ux, u.y});
-        const uint32_t* idx = &m_mesh->indices[3 * tri];
-        Vec3 p0 = m_mesh->p[idx[0]] * b.b0, p1 = m_mesh->p[idx[1]] * b.b1,
-             p2 = m_mesh->p[idx[2]] * b.b2;
-        *p = p0 + p1 + p2;
-        // As for ray hits, with one rounding fewer (pbrt-v4's Triangle::Sample).
-        *p_error = (vabs(p0) + vabs(p1) + vabs(p2)) * gamma_bound(6);
+        Vec3 v[3];
+        corners(tri, v);
+        point_at(v, sample_uniform_triangle({ux, u.y}), p, p_error);
         *n = m_mesh->triangle_normal(tri);
+    }
+    void corners(size_t tri, Vec3 v[3]) const {
+        const uint32_t* idx = &m_mesh->indices[3 * tri];
+        for (int k = 0; k < 3; ++k) v[k] = m_mesh->p[idx[k]];
+    }
+    // The point at barycentrics b and its error bound: as for ray hits, with one rounding fewer
+    // (pbrt-v4's Triangle::Sample).
+    static void point_at(const Vec3 v[3], const Barycentrics& b, Vec3* p, Vec3* p_error) {
+        Vec3 p0 = v[0] * b.b0, p1 = v[1] * b.b1, p2 = v[2] * b.b2;
+        *p = p0 + p1 + p2;
+        *p_error = (vabs(p0) + vabs(p1) + vabs(p2)) * gamma_bound(6);
+    }
+    // Where the ray from o along unit w meets the triangle's plane, as barycentrics clamped into
+    // the triangle (the sampled direction passes through it up to rounding); none if parallel.
+    static std::optional<Barycentrics> hit_barycentrics(const Vec3 v[3], const Vec3& o,
+                                                        const Vec3& w) {
+        Vec3 e1 = v[1] - v[0], e2 = v[2] - v[0];
+        Vec3 s1 = cross(w, e2);
+        float div = dot(s1, e1);
+        if (div == 0 || !std::isfinite(div)) return std::nullopt;
+        Vec3 s = o - v[0];
+        float b1 = std::max(0.f, dot(s, s1) / div), b2 = std::max(0.f, dot(w, cross(s, e1)) / div);
+        if (b1 + b2 > 1) {
+            float sum = b1 + b2;
+            b1 /= sum;
+            b2 /= sum;
+        }
+        return Barycentrics{1 - b1 - b2, b1, b2};
+    }
+    // The triangle for a sample at ctx, with its probability; u_remapped receives u rescaled
+    // inside its share. Small meshes (a quad, a box) choose in proportion to each triangle's
+    // solid angle at ctx times the mean of the receiver's cosine at its corners, which evens the
+    // density over the whole light; larger meshes by area (per-receiver weights cost O(n)).
+    static constexpr size_t kPerReceiverChoice = 16;
+    size_t choose_triangle(const LightSampleContext& ctx, float u, float* pmf,
+                           float* u_remapped) const {
+        if (m_mesh->triangle_count() > kPerReceiverChoice)
+            return m_tri.sample_discrete(u, pmf, u_remapped);
+        float imp[kPerReceiverChoice];
+        float sum = receiver_importances(ctx, imp);
+        *pmf = 0;
+        if (!(sum > 0)) return 0;
+        size_t n = m_mesh->triangle_count(), last = 0;
+        for (size_t t = 0; t < n; ++t)
+            if (imp[t] > 0) last = t;
+        float target = u * sum, acc = 0;
+        for (size_t t = 0; t < n; ++t) {
+            if (!(imp[t] > 0)) continue;
+            if (target < acc + imp[t] || t == last) {
+                *pmf = imp[t] / sum;
+                *u_remapped = std::clamp((target - acc) / imp[t], 0.f, kOneMinusEpsilon);
+                return t;
+            }
+            acc += imp[t];
+        }
+        return 0;
+    }
+    float triangle_pmf(const LightSampleContext& ctx, size_t tri) const {
+        if (m_mesh->triangle_count() > kPerReceiverChoice) return m_tri.pmf(tri);
+        float imp[kPerReceiverChoice];
+        float sum = receiver_importances(ctx, imp);
+        return sum > 0 ? imp[tri] / sum : 0.f;
+    }
+    // Each triangle's weight at ctx (small meshes): zero where it has no area or shows ctx its
+    // back (one-sided), else its solid angle times the mean corner cosine; returns the sum.
+    float receiver_importances(const LightSampleContext& ctx, float* imp) const {
+        float sum = 0;
+        for (size_t t = 0; t < m_mesh->triangle_count(); ++t) {
+            imp[t] = 0;
+            if (!(m_tri.pmf(t) > 0)) continue;
+            Vec3 v[3];
+            corners(t, v);
+            if (!m_two_sided && dot(m_mesh->triangle_normal(t), ctx.p - v[0]) <= 0) continue;
+            float c = 1;
+            if (ctx.ns != Vec3()) {
+                float w[4];
+                cosine_weights(ctx, v, w);
+                c = (w[0] + w[2] + w[3]) / 3;
+            }
+            imp[t] = spherical_triangle_solid_angle(v[0], v[1], v[2], ctx.p) * c;
+            sum += imp[t];
+        }
+        return sum;
+    }
+    // Solid-angle sampling pays where a triangle looks large; where it looks tiny its rounding
+    // outweighs the gain, and near a whole hemisphere it is unstable: area sampling there
+    // (pbrt-v4's limits). Sampling and pdf_li decide alike from the same solid angle.
+    static bool use_solid_angle(float omega) { return omega >= 3e-4f && omega <= 6.22f; }
+    // The receiver's cosine towards the corners, as bilinear weights over the spherical
+    // triangle's square (u.y = 0 is corner 1; at u.y = 1, u.x runs from corner 0 to corner 2),
+    // floored so that no part of the triangle goes unsampled.
+    static void cosine_weights(const LightSampleContext& ctx, const Vec3 v[3], float w[4]) {
+        auto c = [&](const Vec3& corner) {
+            Vec3 d = corner - ctx.p;
+            float l = length(d);
+            return l > 0 ? std::max(0.01f, std::abs(dot(ctx.ns, d / l))) : 0.01f;
+        };
+        w[0] = w[1] = c(v[1]);
+        w[2] = c(v[0]);
+        w[3] = c(v[2]);
     }
 
     const TriangleMesh* m_mesh;

@@ -41,7 +41,8 @@ public:
         s.p_light = ctx.p + s.wi * far_distance(ctx.p, m_center, m_radius);
         return s;
     }
-    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&) const override {
+    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&,
+                 uint32_t) const override {
         return pdf_uniform_sphere();
     }
     RGB radiance_escaped(const Ray&) const override { return m_L; }
@@ -126,8 +127,8 @@ public:
         s.p_light = ctx.p + wi * far_distance(ctx.p, m_center, m_radius);
         return s;
     }
-    float pdf_li(const LightSampleContext&, const Vec3& wi, const Vec3&,
-                 const Vec3&) const override {
+    float pdf_li(const LightSampleContext&, const Vec3& wi, const Vec3&, const Vec3&,
+                 uint32_t) const override {
         return pdf_direction(wi);
     }
     RGB radiance_escaped(const Ray& ray) const override {

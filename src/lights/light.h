@@ -39,6 +39,7 @@ struct LightLiSample {
     Vec3 p_light;               // point on the light (for infinite/distant: far along wi)
     Vec3 n_light;               // normal there (zero for point-like lights)
     Vec3 p_error;               // error bound of each coordinate of p_light (zero: exact)
+    uint32_t prim = 0;          // area lights: the triangle of the mesh p_light is on
     // What a shadow ray towards p_light moves it by (segment_ray).
     Vec3 offset() const { return surface_offset(n_light, p_error); }
 };
@@ -48,6 +49,7 @@ struct LightLeSample {
     Ray ray;            // origin on the light, unit direction
     Vec3 n_light;       // surface normal at the origin (zero for points and directions)
     Vec3 p_error;       // error bound of each coordinate of the origin (zero: exact)
+    uint32_t prim = 0;  // area lights: the triangle of the mesh the origin is on
     float pdf_pos = 0;  // area density of the origin (1 for delta positions)
     float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };
@@ -63,9 +65,10 @@ public:
     virtual std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                                    const Vec2& u) const = 0;
     // Solid-angle density at ctx of sample_li choosing direction wi that reaches the light at
-    // p_light with normal n_light (area lights); infinite lights use wi alone; delta lights: 0.
+    // p_light with normal n_light on triangle `prim` of its mesh (area lights); infinite lights
+    // use wi alone; delta lights: 0.
     virtual float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
-                         const Vec3& n_light) const = 0;
+                         const Vec3& n_light, uint32_t prim) const = 0;
 
     // Area lights: radiance leaving point p (normal n, texture coords uv) in direction w.
     virtual RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const {

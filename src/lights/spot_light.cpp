@@ -38,7 +38,8 @@ public:
         s.p_light = m_p;
         return s;
     }
-    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&) const override {
+    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&,
+                 uint32_t) const override {
         return 0;
     }
     std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const override {

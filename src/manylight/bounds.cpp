@@ -1,5 +1,7 @@
 #include "manylight/bounds.h"
 
+#include <algorithm>
+
 namespace ml {
 
 namespace {
@@ -69,27 +71,58 @@ float cos_of_difference(AngleCS a, float cos_b) {
 
 }  // namespace
 
+float emitter_cos_bound(const LightTreeNode& node, const Vec3& x) {
+    if (node.kind == PointLightKind::Omni || node.kind == PointLightKind::Directional) return 1;
+    if (node.kind == PointLightKind::Glossy) {
+        // The smallest angle between a lobe axis and a direction from the box to x picks the
+        // falloff bin (cos_of_difference stops at a right angle: the bins end below it).
+        float c = cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
+                                    node.cone.cos_theta);
+        return falloff_bound(node.falloff, c);
+    }
+    // Oriented: the emitter's cosine between a normal of the cone and a direction from a point
+    // of the box to x. Those directions lie in the reversed cone subtended by the box at x, so
+    // the angle is at least angle(axis, x - c) - theta_normals - theta_box.
+    if (node.cone.is_entire_sphere()) return 1;
+    // The angle between the cone's axis and x - p, less the cone's half-angle.
+    return cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
+                             node.cone.cos_theta);
+}
+
 float geometric_bound(const LightTreeNode& node, const Vec3& x) {
     if (node.kind == PointLightKind::Directional) return 1;
     float d2 = min_distance_squared(node.bounds, x);
     if (!(d2 > 0)) return kInfinity;
     float falloff = 1 / d2;
     if (node.kind == PointLightKind::Omni) return falloff;
-    if (node.kind == PointLightKind::Glossy) {
-        // The smallest angle between a lobe axis and a direction from the box to x picks the
-        // falloff bin (cos_of_difference stops at a right angle: the bins end below it).
-        float c = cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
-                                    node.cone.cos_theta);
-        return falloff_bound(node.falloff, c) * falloff;
+    return emitter_cos_bound(node, x) * falloff;
+}
+
+float receiver_cos_bound(const LightTreeNode& node, const Vec3& x, const Vec3& n, bool two_sided) {
+    if (node.kind == PointLightKind::Directional) {
+        // The directions towards the lights are the reversed cone of travel directions.
+        auto side = [&](const Vec3& m) {
+            float c = std::clamp(-dot(m, node.cone.axis), -1.f, 1.f);
+            AngleCS a{c, std::sqrt(std::max(0.f, 1 - c * c))};
+            // Widened by about 2e-3 rad against rounding, as min_angle_to_box is.
+            return cos_of_difference(a, node.cone.cos_theta * 0.999998f - 0.002f);
+        };
+        return two_sided ? std::max(side(n), side(-n)) : side(n);
     }
-    // Oriented: the emitter's cosine between a normal of the cone and a direction from a point
-    // of the box to x. Those directions lie in the reversed cone subtended by the box at x, so
-    // the angle is at least angle(axis, x - c) - theta_normals - theta_box.
-    if (node.cone.is_entire_sphere()) return falloff;
-    // The angle between the cone's axis and x - p, less the cone's half-angle.
-    return cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
-                             node.cone.cos_theta) *
-           falloff;
+    auto side = [&](const Vec3& m) {
+        return std::max(0.f, min_angle_to_box(m, node.bounds, x).cos);
+    };
+    return two_sided ? std::max(side(n), side(-n)) : side(n);
+}
+
+RGB loose_node_bound(const LightTreeNode& node, const Vec3& x, const RGB& material_all) {
+    float gb = geometric_bound(node, x);
+    RGB b;
+    for (int c = 0; c < 3; ++c)
+        b[c] = (gb == 0 || material_all[c] == 0 || node.bound_intensity[c] == 0)
+                   ? 0.f
+                   : material_all[c] * gb * node.bound_intensity[c];
+    return b;
 }
 
 DirectionCone node_direction_cone(const LightTreeNode& node, const Vec3& x) {

@@ -24,6 +24,21 @@ namespace ml {
 // x is inside the node's box.
 float geometric_bound(const LightTreeNode& node, const Vec3& x);
 
+// The emitters' part of geometric_bound: an upper bound over the node's lights of the
+// emitter's cosine (oriented) or falloff (glossy) towards x; 1 for omni and directional lights.
+// x inside the node's box is fine (the bound is then usually 1).
+float emitter_cos_bound(const LightTreeNode& node, const Vec3& x);
+
+// An upper bound of |cos(n, wi)| over the directions wi from x towards the node's lights, on n's
+// side only (two_sided false: a surface that only reflects, n facing the viewer) or on both.
+// Zero only when no light of the node is on a side that counts.
+float receiver_cos_bound(const LightTreeNode& node, const Vec3& x, const Vec3& n, bool two_sided);
+
+// The cheap bound a cut starts a node with: material_all (the BSDF's bound over every direction
+// at x) times geometric_bound times the node's bound_intensity, channel by channel, with
+// 0 * infinity taken as 0. Zero only when none of the node's lights can give x light.
+RGB loose_node_bound(const LightTreeNode& node, const Vec3& x, const RGB& material_all);
+
 // The cone of directions from x towards the node's lights (the incident directions wi the
 // material bound ranges over): towards the box for omni and oriented lights, the reverse of the
 // travel directions for directional lights.

@@ -48,7 +48,7 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
         SurfaceInteraction hit;
         LightSampleContext ctx = light_context(si);
         auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
-            float p_light = pmf(light->index) * light->pdf_li(ctx, ray.d, p, n);
+            float p_light = pmf(light->index) * light->pdf_li(ctx, ray.d, p, n, hit.prim_id);
             return Le * power_heuristic(bs->pdf_solid_angle, p_light);
         };
         if (!scene.intersect(ray, &hit)) {

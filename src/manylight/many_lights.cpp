@@ -22,6 +22,16 @@ constexpr float kDefaultClamp = 0.2f;
 
 }  // namespace
 
+RGB visible_point_light(const Scene& scene, const PointLightSet& set,
+                        const ManyLightSettings& settings, const PointLight& pl,
+                        const GatherPoint& g) {
+    RGB c;
+    Ray shadow;
+    if (!point_light_contribution(set, pl, g, &c, &shadow)) return RGB();
+    c = settings.clamped(c, pl.is_vpl);
+    return scene.occluded(shadow) ? RGB() : c;
+}
+
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
     o->kind = parse_vpl_sampler(s.get_string("vpl.sampler", vpl_sampler_name(o->kind)));
     // Each sampler reads only its own settings, so that another's is reported as unused.

@@ -39,6 +39,13 @@ struct ManyLightSettings {
     }
 };
 
+// What `pl` gives at g with its shadow ray: point_light_contribution, clamped as the settings
+// say (VPLs), or nothing when the ray is blocked. The one shading of a single point light that
+// `vpl`, `lightcuts` and `stochasticlightcuts` share.
+RGB visible_point_light(const Scene& scene, const PointLightSet& set,
+                        const ManyLightSettings& settings, const PointLight& pl,
+                        const GatherPoint& g);
+
 // vpl.sampler and the settings of the sampler it names (manylight/vpl_sampler.h).
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* options);
 

@@ -7,20 +7,21 @@ namespace ml {
 RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction* hit,
                    bool full_weight, float prev_pdf, const LightSampleContext& prev_ctx,
                    const LightSampler* light_sampler) {
-    auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
+    auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n,
+                        uint32_t prim) {
         if (full_weight) return Le;
         float pmf = light_sampler ? light_sampler->pmf(prev_ctx, light) : 1.f;
-        return Le * power_heuristic(prev_pdf, pmf * light->pdf_li(prev_ctx, ray.d, p, n));
+        return Le * power_heuristic(prev_pdf, pmf * light->pdf_li(prev_ctx, ray.d, p, n, prim));
     };
     RGB L;
     if (!hit) {
         for (const Light* light : scene.infinite_lights()) {
             RGB Le = light->radiance_escaped(ray);
-            if (!Le.is_black()) L += weighted(light, Le, Vec3(), Vec3());
+            if (!Le.is_black()) L += weighted(light, Le, Vec3(), Vec3(), 0);
         }
     } else if (hit->area_light) {
         RGB Le = hit->area_light->radiance(hit->p, hit->ng, hit->uv, hit->wo);
-        if (!Le.is_black()) L = weighted(hit->area_light, Le, hit->p, hit->ng);
+        if (!Le.is_black()) L = weighted(hit->area_light, Le, hit->p, hit->ng, hit->prim_id);
     }
     return L;
 }

@@ -170,25 +170,14 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     const Vec3& wo = g.si.wo;
     // The representative's contribution: exact, with its shadow ray (and VPL clamping).
     auto light_value = [&](int32_t light) {
-        const PointLight& pl = m_set.lights[size_t(light)];
-        RGB c;
-        Ray shadow;
-        if (!point_light_contribution(m_set, pl, g, &c, &shadow)) return RGB();
-        c = m_settings.clamped(c, pl.is_vpl);
-        return scene.occluded(shadow) ? RGB() : c;
+        return visible_point_light(scene, m_set, m_settings, m_set.lights[size_t(light)], g);
     };
     // Bounds are made lazily: a new node first gets the BSDF's bound over every direction (one
     // per gather point) times its geometric bound, and its own, tighter material bound only if
     // it reaches the top of the heap still above the threshold. Most nodes of a cut never do.
     const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
     auto loose_bound = [&](const LightTreeNode& n, const RGB& estimate) {
-        float gb = geometric_bound(n, x);
-        RGB b;
-        for (int c = 0; c < 3; ++c)
-            b[c] = (gb == 0 || m_all[c] == 0 || n.bound_intensity[c] == 0)
-                       ? 0.f
-                       : m_all[c] * gb * n.bound_intensity[c];
-        float l = error_bound(g.beta * b, n, estimate).luminance();
+        float l = error_bound(g.beta * loose_node_bound(n, x, m_all), n, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
     auto tight_bound = [&](const LightTreeNode& n, const RGB& estimate) {
@@ -300,12 +289,8 @@ void LightcutsIntegrator::verify_cut(const Scene& scene, const GatherPoint& g,
                 stack.push_back(m.children[1]);
                 continue;
             }
-            const PointLight& pl = m_set.lights[size_t(m.light)];
-            RGB c;
-            Ray shadow;
-            if (!point_light_contribution(m_set, pl, g, &c, &shadow)) continue;
-            c = m_settings.clamped(c, pl.is_vpl);
-            if (!scene.occluded(shadow)) exact += c;
+            exact +=
+                visible_point_light(scene, m_set, m_settings, m_set.lights[size_t(m.light)], g);
         }
         exact_total += exact;
         RGB bound =

@@ -86,12 +86,7 @@ int nearest_direction_bin(const Vec3& w) {
 }  // namespace
 
 RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
-    const PointLight& pl = m_set.lights[size_t(light)];
-    RGB c;
-    Ray shadow;
-    if (!point_light_contribution(m_set, pl, p.g, &c, &shadow)) return RGB();
-    c = m_settings.clamped(c, pl.is_vpl);
-    return m_scene.occluded(shadow) ? RGB() : c;
+    return visible_point_light(m_scene, m_set, m_settings, m_set.lights[size_t(light)], p.g);
 }
 
 RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,

@@ -180,10 +180,12 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
             Vec2 u = sampler.get_2d();
             auto sl = ctx.light_sampler.sample(u_select);
             if (!sl || sl->pmf == 0) return std::nullopt;
-            auto ls = sl->light->sample_li(LightSampleContext{p.p(), p.ng(), p.ns()}, u);
-            if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return std::nullopt;
-            lv[0] = PathVertex::light_endpoint(sl->light, ls->p_light, ls->n_light, RGB(1.f), 0,
-                                               ls->p_error);
+            // The point by the light's area density, as sample_le places a light subpath's
+            // origin: path_over_bdpt_density takes that density for every s.
+            auto les = sl->light->sample_le(u, Vec2(0.5f, 0.5f));
+            if (!les || les->L.is_black() || les->pdf_pos == 0) return std::nullopt;
+            lv[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, RGB(1.f), 0,
+                                               les->p_error, les->prim);
         }
         PathVertex& q = lv[size_t(s - 1)];
         if (!q.is_connectible() || !mutually_visible(ctx.scene, p, q)) return std::nullopt;

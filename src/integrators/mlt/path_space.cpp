@@ -175,7 +175,11 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         LightSampleContext lc{pt.p(), pt.ng(), pt.ns()};
         if (area) {
             Le = light->radiance(lv.p(), lv.ng(), lv.si.uv, -wi);
-            pdf = light->pdf_li(lc, wi, lv.p(), lv.ng());
+            // The light point's area density (bidir_mutation samples it so), over solid angle.
+            float pos = 0, pdf_dir = 0;
+            light->pdf_le(Ray{lv.p(), -wi}, lv.ng(), &pos, &pdf_dir);
+            float cos_l = abs_dot(lv.ng(), wi);
+            pdf = cos_l > 0 ? pos * distance_squared(pt.p(), lv.p()) / cos_l : 0.f;
         } else if (auto ls = light->sample_li(lc, Vec2(0.5f, 0.5f))) {
             Le = ls->L;
         }

@@ -25,13 +25,8 @@ RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, Scra
     return gather_along(scene, ray, sampler, scratch, m_settings.max_depth,
                         [&](const GatherPoint& g, float) {
                             RGB L = m_direct.estimate(scene, g, sampler);
-                            for (const PointLight& pl : m_set.lights) {
-                                RGB c;
-                                Ray shadow;
-                                if (!point_light_contribution(m_set, pl, g, &c, &shadow)) continue;
-                                c = m_settings.clamped(c, pl.is_vpl);
-                                if (!scene.occluded(shadow)) L += c;
-                            }
+                            for (const PointLight& pl : m_set.lights)
+                                L += visible_point_light(scene, m_set, m_settings, pl, g);
                             return L;
                         });
 }
