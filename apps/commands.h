@@ -34,6 +34,12 @@ struct DiffArgs {
 void add_diff_command(CLI::App& app, DiffArgs& args);
 int run_diff(const DiffArgs& args);
 
+struct IntegratorsArgs {
+    std::string name;  // empty: all
+};
+void add_integrators_command(CLI::App& app, IntegratorsArgs& args);
+int run_integrators(const IntegratorsArgs& args);
+
 struct InfoArgs {
     std::string scene;
 };

@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
     ml::add_diff_command(app, diff_args);
     ml::InfoArgs info_args;
     ml::add_info_command(app, info_args);
+    ml::IntegratorsArgs integrators_args;
+    ml::add_integrators_command(app, integrators_args);
     ml::ViewArgs view_args;
     ml::add_view_command(app, view_args);
     try {
@@ -57,6 +59,7 @@ int main(int argc, char** argv) {
             throw ml::UsageError("only `manylight render` runs under mpirun");
         if (app.got_subcommand("diff")) return ml::run_diff(diff_args);
         if (app.got_subcommand("info")) return ml::run_info(info_args);
+        if (app.got_subcommand("integrators")) return ml::run_integrators(integrators_args);
         if (app.got_subcommand("view")) return ml::run_view(view_args);
     } catch (const ml::InputError& e) {
         return fail(e.formatted(), 1);

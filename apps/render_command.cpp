@@ -1,11 +1,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,7 +12,6 @@
 #include "integrators/render_job.h"
 #include "options.h"
 #include "render/settings.h"
-#include "scene/default_scene.h"
 #include "scene/scene_desc.h"
 
 namespace ml {
@@ -41,7 +37,9 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
     r->add_option("--time-limit", a.time_limit, "render progressively for this many seconds")
         ->check(positive_seconds());
     // One value per flag, so that `--set a.b=1 scene.pbrt` leaves the scene positional.
-    r->add_option("--set", a.set, "integrator setting NAME.KEY=VALUE (repeatable)")
+    r->add_option("--set", a.set,
+                  "integrator setting NAME.KEY=VALUE (repeatable; `manylight integrators` lists "
+                  "them with their defaults)")
         ->allow_extra_args(false)
         ->check(setting());
     r->add_option("--stats", a.stats, "write figures as JSON to this file")
@@ -95,17 +93,11 @@ int run_render(const RenderArgs& a, World& world) {
         o.set[kv.substr(0, eq)] = kv.substr(eq + 1);
     }
 
-    // Load.
-    auto t0 = std::chrono::steady_clock::now();
-    SceneDesc desc = a.scene.empty()
-                         ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
-                         : parse_scene_file(a.scene);
-    double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    LoadedScene scene = load_scene(a.scene);
 
     // Where the image goes: -o, else the scene's Film filename, else manylight.png.
-    std::string film_name = desc.film.params.has("filename")
-                                ? desc.film.params.get_string("filename", "")
-                                : std::string();
+    const ParameterList& film = scene.desc.film.params;
+    std::string film_name = film.has("filename") ? film.get_string("filename", "") : std::string();
     std::string output = a.output;
     if (output.empty()) output = a.scene.empty() || film_name.empty() ? "manylight.png" : film_name;
     std::string ext = std::filesystem::path(output).extension().string();
@@ -113,12 +105,9 @@ int run_render(const RenderArgs& a, World& world) {
     if (ext != ".exr" && ext != ".png" && ext != ".pfm")
         throw UsageError("output " + output + ": use .exr, .png or .pfm");
 
-    RenderOutput out = render_scene(std::move(desc), o);
+    RenderOutput out = render_loaded_scene(std::move(scene), o);
     // Across ranks only rank 0 holds the whole image and figures; the others write nothing.
     if (!world.root()) return 0;
-    out.figures.seconds_load = load;
-    struct rusage usage {};
-    if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;
     // Extra images next to the output, checked before anything is written.
     std::vector<std::pair<std::string, const Image*>> aov_files;
     for (const std::string& name : a.aovs) {

@@ -1,8 +1,9 @@
-// The folder graph of src/ and apps/ (docs/ARCHITECTURE.md): every `#include "folder/file.h"` is
-// an edge from the including file's folder to `folder`. Edges may only point down the layer table
-// below, and no chain of includes, between files or between folders, may come back to where it
-// started. The checks run on the sources themselves, so a new include that breaks the layering
-// fails here, and on small made-up graphs, so that the checks are shown to fail when they should.
+// The folder graph of src/, apps/ and python/ (docs/ARCHITECTURE.md): every `#include
+// "folder/file.h"` is an edge from the including file's folder to `folder`. Edges may only point
+// down the layer table below, and no chain of includes, between files or between folders, may come
+// back to where it started. The checks run on the sources themselves, so a new include that breaks
+// the layering fails here, and on small made-up graphs, so that the checks are shown to fail when
+// they should.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -33,7 +34,7 @@ const std::vector<std::vector<std::string>> kLayers = {
     {"render", "transport"},      // the integrator interface and render loop; light transport
     {"bidir", "manylight"},       // bidirectional paths; point-light sets, trees, gathering
     {"integrators"},              // the algorithms, the registry and the render job
-    {"apps"},                     // the command line
+    {"apps", "python"},           // the command line; the Python module
 };
 
 // Libraries wrapped in one place: (include prefix, the files that may include it).
@@ -56,18 +57,18 @@ struct Sources {
     std::vector<std::string> unresolved;
 };
 
-// The folder a file belongs to: src/<folder>/... or apps.
+// The folder a file belongs to: src/<folder>/..., apps or python.
 std::string folder_of(const std::string& file) {
     fs::path p(file);
     auto it = p.begin();
-    if (*it == "apps") return "apps";
+    if (*it == "apps" || *it == "python") return it->string();
     ++it;
     return it->string();
 }
 
 Sources read_sources(const fs::path& root) {
     Sources s;
-    for (const char* top : {"src", "apps"})
+    for (const char* top : {"src", "apps", "python"})
         for (const auto& e : fs::recursive_directory_iterator(root / top)) {
             std::string ext = e.path().extension().string();
             if (e.is_regular_file() && (ext == ".h" || ext == ".cpp"))

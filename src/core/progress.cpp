@@ -6,13 +6,16 @@
 
 namespace ml {
 
-Progress::Progress(std::string title, bool enabled)
-    : m_title(std::move(title)), m_enabled(enabled && isatty(fileno(stderr))) {
+Progress::Progress(std::string title, bool enabled, std::function<void(double)> observer)
+    : m_title(std::move(title)),
+      m_enabled(enabled && isatty(fileno(stderr))),
+      m_observer(std::move(observer)) {
     m_start = m_last_draw = std::chrono::steady_clock::now();
     if (m_enabled) draw(0.0);
 }
 
 void Progress::set_fraction(double f) {
+    if (m_observer) m_observer(f);
     if (!m_enabled) return;
     std::lock_guard<std::mutex> lock(m_mutex);
     auto now = std::chrono::steady_clock::now();

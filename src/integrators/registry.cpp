@@ -76,6 +76,16 @@ const IntegratorInfo* find_integrator(const std::string& name) {
     return nullptr;
 }
 
+std::vector<SettingDefault> integrator_settings(
+    const IntegratorInfo& info, const std::map<std::string, std::string>& overrides) {
+    std::vector<SettingDefault> out;
+    Settings settings(info.name, nullptr, overrides);
+    settings.record_defaults(&out);
+    info.create(settings);
+    settings.check_unused();
+    return out;
+}
+
 std::string integrator_for_pbrt_name(const std::string& pbrt_name) {
     if (pbrt_name == "volpath") return "path";
     if (find_integrator(pbrt_name)) return pbrt_name;

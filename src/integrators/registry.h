@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,6 +21,14 @@ struct IntegratorInfo {
 const std::vector<IntegratorInfo>& integrator_registry();
 // Null if no integrator has that name.
 const IntegratorInfo* find_integrator(const std::string& name);
+// The settings `info`'s integrator reads, each with its default, in the order it reads them: the
+// integrator is made from Settings that record what it asks for (Settings::record_defaults), so
+// the defaults are its own code's. A setting read only under another choice (vpl.pilot under
+// vpl.sampler=power) is listed when `overrides` (--set's NAME.KEY=VALUE) makes that choice; a
+// default that follows another setting (vpl.max_depth: maxdepth - 1) is the one it has when
+// nothing is set. Throws UsageError for overrides the integrator does not read.
+std::vector<SettingDefault> integrator_settings(
+    const IntegratorInfo& info, const std::map<std::string, std::string>& overrides = {});
 // Our integrator for a pbrt-v4 `Integrator` name ("volpath" -> "path"), or "" if none.
 std::string integrator_for_pbrt_name(const std::string& pbrt_name);
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <sys/resource.h>
+
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -14,6 +16,7 @@
 #include "film/film.h"
 #include "film/filter.h"
 #include "integrators/registry.h"
+#include "scene/default_scene.h"
 #include "scene/scene.h"
 
 namespace ml {
@@ -220,7 +223,8 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
     World& world = opt.world ? *opt.world : local_world();
     const bool distributed = world.size() > 1;
     Film film(width, height, plan.max_component, plan.imaging_ratio);
-    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress && world.root());
+    Progress progress(fmt::format("{} {}x{}", name, width, height), opt.progress && world.root(),
+                      opt.on_progress);
     // Across ranks the render (and its time limit) starts when every rank has built the scene.
     if (distributed) world.barrier();
     RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,     *plan.sampler,
@@ -302,6 +306,22 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
     }
     out.figures.seconds_build = build;
     return run_plan(plan, *scene, opt, std::move(out));
+}
+
+LoadedScene load_scene(const std::string& path) {
+    auto t0 = std::chrono::steady_clock::now();
+    LoadedScene loaded{path.empty() ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
+                                    : parse_scene_file(path)};
+    loaded.seconds_load = seconds_since(t0);
+    return loaded;
+}
+
+RenderOutput render_loaded_scene(LoadedScene scene, const RenderOptions& options) {
+    RenderOutput out = render_scene(std::move(scene.desc), options);
+    out.figures.seconds_load = scene.seconds_load;
+    struct rusage usage {};
+    if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;
+    return out;
 }
 
 RenderOutput render_built_scene(const Scene& scene, const RenderOptions& opt) {

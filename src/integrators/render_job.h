@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -34,6 +35,9 @@ struct RenderOptions {
     double time_limit = 0;                   // seconds; > 0 renders progressively until spent
     std::map<std::string, std::string> set;  // --set NAME.KEY=VALUE
     bool progress = false;                   // draw a progress bar on a terminal
+    // Given the fraction of the render done, from the render's threads (cheap and thread-safe;
+    // the Python module's progress callback and Ctrl-C poll start here).
+    std::function<void(double)> on_progress;
     // --look-at: eye, target and up (as the scene's LookAt) instead of the scene's camera.
     std::optional<std::array<float, 9>> look_at;
     // When set and true, the render stops starting work (the viewer drops a view it left).
@@ -74,6 +78,18 @@ struct RenderOutput {
     std::map<std::string, Image> debug_images;
     RenderFigures figures;
 };
+
+// A scene as the command line reads it: the file at `path` parsed, or the built-in Cornell box
+// when `path` is empty, and the seconds that took. Throws InputError with the place.
+struct LoadedScene {
+    SceneDesc desc;
+    double seconds_load = 0;
+};
+LoadedScene load_scene(const std::string& path);
+
+// What `manylight render` and the Python module's render() run: render_scene on a loaded scene,
+// with the load time and the process's peak memory (peak_rss_mb) filled in.
+RenderOutput render_loaded_scene(LoadedScene scene, const RenderOptions& options);
 
 // Renders a parsed scene. Throws InputError for bad scene settings and UsageError for bad
 // options. `seconds_load` is left for the caller to fill in.

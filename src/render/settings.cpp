@@ -1,5 +1,7 @@
 #include "render/settings.h"
 
+#include <fmt/format.h>
+
 #include <charconv>
 #include <cmath>
 
@@ -40,13 +42,32 @@ T parse_number(const std::string& name, const std::string& s) {
 
 }  // namespace
 
+bool Settings::has(const std::string& key) const {
+    if (m_overrides.count(full_name(key))) return true;
+    const ParameterList* scene = scene_for(key);
+    return scene && scene->has(key);
+}
+
+void Settings::record(const std::string& key, const char* type, std::string value) const {
+    if (!m_record) return;
+    std::string name = full_name(key);
+    for (SettingDefault& d : *m_record)
+        if (d.key == name) {
+            d = {name, type, std::move(value)};
+            return;
+        }
+    m_record->push_back({name, type, std::move(value)});
+}
+
 int Settings::get_int(const std::string& key, int def) const {
+    record(key, "int", std::to_string(def));
     if (const std::string* s = override_for(key)) return parse_number<int>(full_name(key), *s);
     const ParameterList* scene = scene_for(key);
     return scene ? scene->get_int(key, def) : def;
 }
 
 float Settings::get_float(const std::string& key, float def) const {
+    record(key, "float", fmt::format("{}", def));  // the shortest text that reads back as `def`
     if (const std::string* s = override_for(key)) {
         float v = parse_number<float>(full_name(key), *s);
         if (!std::isfinite(v)) throw UsageError("--set " + full_name(key) + ": not finite");
@@ -57,6 +78,7 @@ float Settings::get_float(const std::string& key, float def) const {
 }
 
 bool Settings::get_bool(const std::string& key, bool def) const {
+    record(key, "bool", def ? "true" : "false");
     if (const std::string* s = override_for(key)) {
         if (*s == "true" || *s == "1") return true;
         if (*s == "false" || *s == "0") return false;
@@ -67,6 +89,7 @@ bool Settings::get_bool(const std::string& key, bool def) const {
 }
 
 std::string Settings::get_string(const std::string& key, const std::string& def) const {
+    record(key, "string", def);
     if (const std::string* s = override_for(key)) return *s;
     const ParameterList* scene = scene_for(key);
     return scene ? scene->get_string(key, def) : def;

@@ -8,11 +8,19 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "core/params.h"
 
 namespace ml {
+
+// A setting an integrator read, with the default it gave (Settings::record_defaults).
+struct SettingDefault {
+    std::string key;    // full name: "path.maxdepth", "vpl.count"
+    std::string type;   // "int", "float", "bool" or "string"
+    std::string value;  // the default as --set takes it: "5", "0.1", "true", "tree"
+};
 
 class Settings {
 public:
@@ -23,8 +31,14 @@ public:
     float get_float(const std::string& key, float def) const;
     bool get_bool(const std::string& key, bool def) const;
     std::string get_string(const std::string& key, const std::string& def) const;
+    // True when the scene or --set gives `key` (it is not marked read).
+    bool has(const std::string& key) const;
     const std::string& integrator() const { return m_integrator; }
     void check_unused() const;
+    // From now on every get_* adds its key, type and default to `out` (a key read twice keeps
+    // the last default): an integrator made from empty Settings lists what it reads, with the
+    // defaults its own code gives (integrator_settings in integrators/registry.h).
+    void record_defaults(std::vector<SettingDefault>* out) { m_record = out; }
 
 private:
     // The --set value for `key` (full name: "path.maxdepth", "vpl.count"), marked used.
@@ -36,10 +50,12 @@ private:
     const ParameterList* scene_for(const std::string& key) const {
         return key.find('.') == std::string::npos ? m_scene : nullptr;
     }
+    void record(const std::string& key, const char* type, std::string value) const;
     std::string m_integrator;
     const ParameterList* m_scene;                    // may be null
     std::map<std::string, std::string> m_overrides;  // full names
     mutable std::map<std::string, bool> m_used;
+    std::vector<SettingDefault>* m_record = nullptr;
 };
 
 }  // namespace ml

@@ -49,13 +49,15 @@ IgiSettings IgiSettings::read(const Settings& s) {
 
 IgiIntegrator::IgiIntegrator(const Settings& settings)
     : m_many(ManyLightSettings::read(settings)), m_igi(IgiSettings::read(settings)) {
-    // igi.vpls, or the vpl.count the other many-light integrators read; not both.
-    int vpls = settings.get_int("vpls", -1);
-    int count = settings.get_int("vpl.count", -1);
-    if (vpls >= 0 && count >= 0)
+    // igi.vpls, or the vpl.count the other many-light integrators read (under igi's default);
+    // both only if they agree. vpl.count is read last, so that its default listed for igi
+    // (integrator_settings) is igi's.
+    int vpls = settings.get_int("vpls", kDefaultVpls);
+    int count = settings.get_int("vpl.count", vpls);
+    if (settings.has("vpls") && settings.has("vpl.count") && vpls != count)
         throw UsageError("give igi.vpls or vpl.count, not both (they are the same count)");
-    if (vpls < -1) throw UsageError("igi.vpls must be >= 0");
-    m_many.lights.vpl_count = vpls >= 0 ? vpls : count >= 0 ? count : kDefaultVpls;
+    if (count < 0) throw UsageError("igi.vpls must be >= 0");
+    m_many.lights.vpl_count = count;
     m_many.lights.vpls = m_many.lights.vpl_count > 0;
 }
 
