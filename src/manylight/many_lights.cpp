@@ -16,9 +16,6 @@ namespace {
 // as points are singular where an emitter nearly touches a surface; clamping takes the rare
 // VPL spikes (a VPL millimetres from the receiver) at a cost of about 0.5% of the kitchen.
 constexpr int kDefaultVplCount = 100000;
-constexpr const char* kDefaultGlossy = "diffuse";
-constexpr const char* kDefaultDirect = "sample";
-constexpr float kDefaultClamp = 0.2f;
 
 }  // namespace
 
@@ -48,14 +45,14 @@ void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
             "vpl.pilot, vpl.pilot_paths, vpl.candidates and vpl.metropolis.tries must be >= 1");
 }
 
-ManyLightSettings ManyLightSettings::read(const Settings& s) {
+ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& defaults) {
     ManyLightSettings m;
     m.max_depth = s.get_int("maxdepth", 5);
     m.lights.vpl_count = s.get_int("vpl.count", kDefaultVplCount);
     // A VPL deposited at a light path's b-th bounce lights paths of b + 1 bounces, so light
     // paths stop where the path tracer's would (maxdepth bounces) unless told otherwise.
     m.lights.vpl_max_depth = s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1));
-    std::string glossy = s.get_string("vpl.glossy", kDefaultGlossy);
+    std::string glossy = s.get_string("vpl.glossy", defaults.glossy);
     if (glossy == "bsdf")
         m.lights.vpl_glossy = GlossyVpls::Bsdf;
     else if (glossy == "diffuse")
@@ -72,8 +69,8 @@ ManyLightSettings ManyLightSettings::read(const Settings& s) {
     if (seed < -1) throw UsageError("vpl.seed must be >= 0 (or -1: from --seed)");
     if (seed >= 0) m.explicit_seed = uint64_t(seed);
     m.lights.seed = m.explicit_seed.value_or(0);
-    m.clamp = s.get_float("vpl.clamp", kDefaultClamp);
-    std::string direct = s.get_string("lights.direct", kDefaultDirect);
+    m.clamp = s.get_float("vpl.clamp", defaults.clamp);
+    std::string direct = s.get_string("lights.direct", defaults.direct);
     if (direct == "sample")
         m.lights.sampled_direct = true;
     else if (direct != "points")

@@ -25,7 +25,16 @@ struct ManyLightSettings {
     int direct_samples = 4;
     // vpl.seed when given; else lights.seed follows the render's seed (use_render_seed).
     std::optional<uint64_t> explicit_seed;
-    static ManyLightSettings read(const Settings& s);
+    // The defaults of vpl.glossy, vpl.clamp and lights.direct: the measured best for `vpl`,
+    // `lightcuts` and `mdlightcuts`; an integrator that needs others (bdlightcuts) passes them,
+    // so that the settings listed for it are its own.
+    struct Defaults {
+        const char* glossy = "diffuse";
+        float clamp = 0.2f;
+        const char* direct = "sample";
+    };
+    static ManyLightSettings read(const Settings& s, const Defaults& defaults);
+    static ManyLightSettings read(const Settings& s) { return read(s, Defaults{}); }
     // Sets lights.seed, which every random choice of the point-light set (VPL paths, points on
     // area lights and environment maps) and of the light tree (representatives) draws from:
     // vpl.seed if given, else the render's seed (--seed), so that a new --seed gives new VPLs

@@ -109,7 +109,7 @@ def test_bad_arguments_raise_usage_errors(scene, kwargs, message):
 
 # Readme's table of integrators, and defaults the README documents.
 INTEGRATORS = ["path", "direct", "whitted", "lighttracer", "bdpt", "mlt", "cmlt", "pssmlt",
-               "vpl", "lightcuts", "stochasticlightcuts", "mdlightcuts", "igi"]
+               "vpl", "lightcuts", "stochasticlightcuts", "mdlightcuts", "bdlightcuts", "igi"]
 
 
 def test_integrators_lists_names_settings_and_defaults():

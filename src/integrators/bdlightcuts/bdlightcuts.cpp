@@ -121,13 +121,13 @@ struct BdLightcutsIntegrator::ThreadState {
 BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // The point-light set is `vpl`'s, with the emitters as point lights, whole BSDFs at the VPLs
     // and no clamping: the split weights do what those settings do for `vpl`.
+    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "points"});
     if (settings.get_string("lights.direct", "points") != "points")
         throw UsageError("bdlightcuts: lights.direct must be points (the emitters' split)");
     if (settings.get_string("vpl.glossy", "bsdf") != "bsdf")
         throw UsageError("bdlightcuts: vpl.glossy must be bsdf (the diffuse weight replaces it)");
     if (settings.get_float("vpl.clamp", 0.f) != 0.f)
         throw UsageError("bdlightcuts: vpl.clamp must be 0 (the clamping weight replaces it)");
-    m_settings = ManyLightSettings::read(settings);
     m_settings.lights.sampled_direct = false;
     m_settings.lights.vpl_glossy = GlossyVpls::Bsdf;
     m_settings.clamp = 0;
