@@ -14,8 +14,14 @@ Cost at the same error: renders' error falls as 1 / time, so the ratio of time x
 over static) is the time the motion-blurred render needs to reach the static one's error. The
 renders alternate static and motion, --repeats times, in one run.
 
+--kitchen: the kitchen (../shared/scenes/kitchen/scene-v4.pbrt) with a moving object added: a
+grey sphere of radius 0.15 in front of the counters, moving 0.6 along the camera's right while
+the shutter is open (the camera gets shutter [0, 1], the pbrt-v4 default, written out so that the
+static copy can close it at 0.5). The scene is written to a temporary folder beside links to the
+kitchen's models and textures (its relative paths are resolved against the main file's folder).
+
 Usage: bench/motion_mdlightcuts.py [--res 96x96] [--spp 16] [--ref-spp 512] [--repeats 3]
-       [--scene PATH] [--threads 2]
+       [--scene PATH | --kitchen] [--threads 2]
 """
 import json
 import os
@@ -53,6 +59,34 @@ def rel_mse(a, b):
     return sum((x - y) ** 2 / (y * y + 1e-3) for x, y in zip(da, db)) / len(da)
 
 
+KITCHEN = os.path.join(ROOT, "..", "shared", "scenes", "kitchen")
+KITCHEN_CAMERA = 'Camera "perspective"\n    "float fov" [ 35.9834 ]'
+# Added at the end of the kitchen's world: the sphere's centre moves by 0.6 along the camera's
+# right vector (0.899, 0, -0.438) over the shutter, around a point 2.5 in front of the camera.
+KITCHEN_SPHERE = """
+AttributeBegin
+    ActiveTransform StartTime
+    Translate -0.15 1.2 1.75
+    ActiveTransform EndTime
+    Translate 0.39 1.2 1.49
+    ActiveTransform All
+    Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+    Shape "sphere" "float radius" [ 0.15 ]
+AttributeEnd
+"""
+
+
+def kitchen_motion(tmp):
+    """Writes the kitchen with a moving sphere into tmp (beside links to its folders)."""
+    for entry in os.listdir(KITCHEN):
+        if os.path.isdir(os.path.join(KITCHEN, entry)):
+            os.symlink(os.path.abspath(os.path.join(KITCHEN, entry)), os.path.join(tmp, entry))
+    text = open(os.path.join(KITCHEN, "scene-v4.pbrt")).read()
+    assert KITCHEN_CAMERA in text, "the kitchen's camera line was not found"
+    text = text.replace(KITCHEN_CAMERA, KITCHEN_CAMERA + " " + SHUTTER) + KITCHEN_SPHERE
+    return text
+
+
 def render(scene, out, spp, seed, res, threads):
     stats = out + ".json"
     cmd = [BIN, "render", scene, "-q", "--threads", threads, "--spp", str(spp), "--seed",
@@ -74,13 +108,16 @@ def main():
     ref_spp = int(arg("--ref-spp", "512"))
     repeats = int(arg("--repeats", "3"))
     threads = arg("--threads", "2")
-    scene = arg("--scene", "/work/shared/scenes/cornell-box/scene-motion-blur.pbrt")
-    text = open(scene).read()
-    assert SHUTTER in text, "the scene's shutter line was not found"
+    scene = arg("--scene", os.path.join(ROOT, "..", "shared", "scenes", "cornell-box",
+                                        "scene-motion-blur.pbrt"))
     with tempfile.TemporaryDirectory() as tmp:
+        if "--kitchen" in sys.argv:
+            text = kitchen_motion(tmp)
+        else:
+            text = open(scene).read()
+        assert SHUTTER in text, "the scene's shutter line was not found"
         scenes = {"motion": os.path.join(tmp, "motion.pbrt"),
                   "static": os.path.join(tmp, "static.pbrt")}
-        # Written beside the original's includes: none in this scene.
         with open(scenes["motion"], "w") as f:
             f.write(text)
         with open(scenes["static"], "w") as f:
