@@ -20,6 +20,7 @@ SCENES = {
     "kitchen": ("kitchen/scene-v4.pbrt", "320x180"),
     "cornell-box": ("cornell-box/scene-v4.pbrt", "256x256"),
     "veach-mis": ("veach-mis/scene-v4.pbrt", "320x180"),
+    "classroom": ("classroom/scene-v4.pbrt", "320x180"),
 }
 
 

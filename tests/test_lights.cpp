@@ -14,6 +14,7 @@
 #include "lights/lights.h"
 #include "sampling/warps.h"
 #include "shared_files.h"
+#include "transport/mis.h"
 
 namespace ml {
 namespace {
@@ -196,6 +197,32 @@ TEST(Lights, AreaLightIrradianceMatchesQuadrature) {
     expect_rgb_near(p->power(), RGB(50), 1e-4f, "area power param");
 }
 
+// Irradiance at ctx by MIS of the light's incomplete density (allow_incomplete_pdf) with cosine-
+// weighted hemisphere sampling, n samples of each, power heuristic: the path tracer's estimator
+// on a white Lambertian receiver (with radiance_escaped standing for the ray's escape).
+RGB irradiance_mis_incomplete(const Light& light, LightSampleContext ctx, int n) {
+    ctx.allow_incomplete_pdf = true;
+    Rng rng(5);
+    RGB e;
+    for (int i = 0; i < n; ++i) {
+        if (auto s = light.sample_li(ctx, next2(rng)); s && s->pdf_solid_angle > 0) {
+            float cos = dot(s->wi, ctx.ns);
+            if (cos > 0) {
+                float w = power_heuristic(s->pdf_solid_angle, cos * kInvPi);
+                e += s->L * (cos * w / s->pdf_solid_angle);
+            }
+        }
+        Vec3 local = sample_cosine_hemisphere(next2(rng));
+        Frame f = Frame::from_z(ctx.ns);
+        Vec3 wi = f.to_world(local);
+        float pdf = local.z * kInvPi;
+        if (pdf <= 0) continue;
+        float w = power_heuristic(pdf, light.pdf_li(ctx, wi, {}, {}, 0));
+        e += light.radiance_escaped({ctx.p, wi}) * (local.z * w / pdf);
+    }
+    return e / float(n);
+}
+
 TEST(Lights, UniformInfiniteIrradianceIsPiL) {
     auto l = create_light("infinite", params({num_param("rgb", "L", {0.5f, 1, 2})}), Transform(),
                           "", {});
@@ -210,6 +237,13 @@ TEST(Lights, UniformInfiniteIrradianceIsPiL) {
     auto e = create_light("infinite", params({num_param("float", "illuminance", {10})}),
                           Transform(), "", {});
     expect_rgb_near(irradiance_li(*e, ctx, 200000), RGB(10), 0.01f, "env illuminance");
+    // With MIS against the BSDF allowed to be incomplete, a constant sky is left to the BSDF.
+    LightSampleContext mis = ctx;
+    mis.allow_incomplete_pdf = true;
+    EXPECT_FALSE(l->sample_li(mis, {0.3f, 0.7f}));
+    EXPECT_EQ(l->pdf_li(mis, Vec3(0, 0, 1), {}, {}, 0), 0.f);
+    expect_rgb_near(irradiance_mis_incomplete(*l, ctx, 200000), RGB(0.5f, 1, 2) * kPi, 0.01f,
+                    "env E by MIS");
 }
 
 // A spiky map: dim everywhere, one small very bright patch, a coloured band.
@@ -274,6 +308,44 @@ void check_image_light(int w, int h, const char* what) {
         [&](const Vec3& w) { return double(lm->pdf_li(ctx, w, {}, {}, 0)); },
         {.theta_res = 16, .phi_res = 32, .sample_count = 400000, .quadrature_depth = 5});
     EXPECT_GT(r.p_value, 0.001) << what << ": " << r.message;
+    // The compensated density (allow_incomplete_pdf): its samples follow its pdf, it leaves out
+    // directions darker than the map's mean, and keeps those brighter.
+    LightSampleContext inc = ctx;
+    inc.allow_incomplete_pdf = true;
+    auto rc = chi2::test(
+        [&](Rng& rng) -> std::optional<Vec3> {
+            auto s = lm->sample_li(inc, next2(rng));
+            if (!s) return std::nullopt;
+            return s->wi;
+        },
+        [&](const Vec3& w) { return double(lm->pdf_li(inc, w, {}, {}, 0)); },
+        {.theta_res = 16, .phi_res = 32, .sample_count = 400000, .quadrature_depth = 5});
+    EXPECT_GT(rc.p_value, 0.001) << what << " (compensated): " << rc.message;
+    {
+        // The map's mean luminance over the sphere, by uniform directions.
+        Rng rng(3);
+        double mean = 0;
+        const int nm = 200000;
+        for (int i = 0; i < nm; ++i)
+            mean += lm->radiance_escaped({ctx.p, sample_uniform_sphere(next2(rng))}).luminance();
+        mean /= nm;
+        int zero = 0, kept = 0;
+        for (int i = 0; i < 4000; ++i) {
+            Vec3 w = sample_uniform_sphere(next2(rng));
+            float pc = lm->pdf_li(inc, w, {}, {}, 0), pf = lm->pdf_li(ctx, w, {}, {}, 0);
+            ASSERT_GT(pf, 0.f) << what;
+            (pc == 0 ? zero : kept) += 1;
+            double lum = lm->radiance_escaped({ctx.p, w}).luminance();
+            if (lum < 0.98 * mean) {
+                EXPECT_EQ(pc, 0.f) << what << " lum " << lum << " mean " << mean;
+            }
+            if (lum > 1.02 * mean) {
+                EXPECT_GT(pc, 0.f) << what << " lum " << lum << " mean " << mean;
+            }
+        }
+        EXPECT_GT(zero, 200) << what;
+        EXPECT_GT(kept, 200) << what;
+    }
     std::string path = write_temp(spiky_image(w, h, 500), std::string("env_") + what + ".pfm");
     auto l = create_light("infinite", params({str_param("filename", path)}), rot, "", {});
     Bounds3 b;
@@ -307,6 +379,9 @@ void check_image_light(int w, int h, const char* what) {
     e_uniform = e_uniform / float(m);
     RGB e_li = irradiance_li(*l, ctx, 200000);
     expect_rgb_near(e_li, e_uniform, 0.03f, what);
+    // MIS of the compensated density with cosine sampling has the same expectation.
+    expect_rgb_near(irradiance_mis_incomplete(*l, ctx, 400000), e_uniform, 0.03f,
+                    (std::string(what) + " by MIS, compensated").c_str());
     // Power against sample_le, and pdf_le against sample_le.
     expect_rgb_near(power_le(*l, 200000), l->power(), 0.01f, what);
     auto s = l->sample_le({0.3f, 0.6f}, {0.4f, 0.2f});

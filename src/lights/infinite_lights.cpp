@@ -32,8 +32,12 @@ public:
     LightType type() const override { return LightType::Infinite; }
     void preprocess(const Bounds3& b) override { b.bounding_sphere(&m_center, &m_radius); }
 
+    // With MIS against the BSDF allowed to leave directions out (allow_incomplete_pdf), a
+    // constant radiance is left to BSDF sampling entirely, as pbrt-v4 does: it fits the BSDF
+    // at least as well as uniform directions do.
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                            const Vec2& u) const override {
+        if (ctx.allow_incomplete_pdf) return std::nullopt;
         LightLiSample s;
         s.wi = sample_uniform_sphere(u);
         s.L = m_L;
@@ -41,9 +45,9 @@ public:
         s.p_light = ctx.p + s.wi * far_distance(ctx.p, m_center, m_radius);
         return s;
     }
-    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&,
+    float pdf_li(const LightSampleContext& ctx, const Vec3&, const Vec3&, const Vec3&,
                  uint32_t) const override {
-        return pdf_uniform_sphere();
+        return ctx.allow_incomplete_pdf ? 0.f : pdf_uniform_sphere();
     }
     RGB radiance_escaped(const Ray&) const override { return m_L; }
     std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const override {
@@ -107,9 +111,35 @@ public:
                 sum += v;
             }
         }
+        // The compensated density (pbrt-v4's, for MIS with BSDF sampling): radiance above the
+        // map's mean over the sphere, so that light samples go where the map stands out and
+        // BSDF samples take the even rest. A map with nothing above its mean (a constant one)
+        // keeps the complete density.
+        double mean_sum = 0, solid_angle = 0;
+        for (int y = 0; y < h; ++y) {
+            double dw = m_mapping == EnvMapping::EqualArea
+                            ? 1.0
+                            : double(latlong_pixel_solid_angle(y, w, h));
+            for (int x = 0; x < w; ++x) mean_sum += double(m_image.at(x, y).luminance()) * dw;
+            solid_angle += dw * double(w);
+        }
+        float mean = float(mean_sum / solid_angle);
+        std::vector<float> fc(f.size());
+        bool any = false;
+        for (int y = 0; y < h; ++y) {
+            float row = m_mapping == EnvMapping::LatLong
+                            ? std::sin(kPi * (float(y) + 0.5f) / float(h))
+                            : 1.f;
+            for (int x = 0; x < w; ++x) {
+                float v = std::max(0.f, m_image.at(x, y).luminance() - mean) * row;
+                fc[size_t(y) * w + x] = v;
+                any = any || v > 0;
+            }
+        }
         float floor = float(sum / double(f.size())) * 1e-3f;
         for (float& v : f) v += floor;
         m_dist = Distribution2D(f, w, h);
+        m_compensated = any ? Distribution2D(fc, w, h) : m_dist;
     }
     LightType type() const override { return LightType::Infinite; }
     void preprocess(const Bounds3& b) override { b.bounding_sphere(&m_center, &m_radius); }
@@ -119,7 +149,7 @@ public:
         Vec3 wi;
         float pdf;
         Vec2 uv;
-        if (!sample_direction(u, &wi, &pdf, &uv)) return std::nullopt;
+        if (!sample_direction(distribution(ctx), u, &wi, &pdf, &uv)) return std::nullopt;
         LightLiSample s;
         s.wi = wi;
         s.L = lookup(uv);
@@ -127,9 +157,9 @@ public:
         s.p_light = ctx.p + wi * far_distance(ctx.p, m_center, m_radius);
         return s;
     }
-    float pdf_li(const LightSampleContext&, const Vec3& wi, const Vec3&, const Vec3&,
+    float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3&, const Vec3&,
                  uint32_t) const override {
-        return pdf_direction(wi);
+        return pdf_direction(distribution(ctx), wi);
     }
     RGB radiance_escaped(const Ray& ray) const override {
         return lookup(to_uv(normalize(m_to_light.vector(ray.d))));
@@ -138,7 +168,7 @@ public:
         Vec3 wi;
         float pdf;
         Vec2 uv;
-        if (m_radius <= 0 || !sample_direction(u_dir, &wi, &pdf, &uv)) return std::nullopt;
+        if (m_radius <= 0 || !sample_direction(m_dist, u_dir, &wi, &pdf, &uv)) return std::nullopt;
         LightLeSample s = disk_ray(m_center, m_radius, wi, u_pos);
         s.L = lookup(uv);
         s.pdf_dir = pdf;
@@ -146,7 +176,7 @@ public:
     }
     void pdf_le(const Ray& ray, const Vec3&, float* pdf_pos, float* pdf_dir) const override {
         *pdf_pos = m_radius > 0 ? 1 / (kPi * m_radius * m_radius) : 0.f;
-        *pdf_dir = pdf_direction(-ray.d);
+        *pdf_dir = pdf_direction(m_dist, -ray.d);
     }
     RGB power() const override {
         // pi r^2 times the radiance integrated over all directions.
@@ -170,8 +200,8 @@ public:
             Vec3 wi;
             float pdf;
             Vec2 uv;
-            if (!sample_direction(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &wi, &pdf,
-                                  &uv))
+            if (!sample_direction(m_dist, shifted_hammersley(uint32_t(i), uint32_t(n), shift), &wi,
+                                  &pdf, &uv))
                 continue;
             PointLight pl;
             pl.n = -wi;
@@ -199,9 +229,13 @@ private:
     float jacobian_inv(float sin_theta) const {
         return m_mapping == EnvMapping::EqualArea ? kInv4Pi : 1 / (2 * kPi * kPi * sin_theta);
     }
-    bool sample_direction(Vec2 u, Vec3* wi, float* pdf, Vec2* uv) const {
+    const Distribution2D& distribution(const LightSampleContext& ctx) const {
+        return ctx.allow_incomplete_pdf ? m_compensated : m_dist;
+    }
+    bool sample_direction(const Distribution2D& dist, Vec2 u, Vec3* wi, float* pdf,
+                          Vec2* uv) const {
         float map_pdf;
-        *uv = m_dist.sample(u, &map_pdf);
+        *uv = dist.sample(u, &map_pdf);
         if (map_pdf == 0) return false;
         float sin_theta;
         Vec3 w_light = from_uv(*uv, &sin_theta);
@@ -210,12 +244,12 @@ private:
         *pdf = map_pdf * jacobian_inv(sin_theta);
         return true;
     }
-    float pdf_direction(const Vec3& wi) const {
+    float pdf_direction(const Distribution2D& dist, const Vec3& wi) const {
         Vec3 w_light = normalize(m_to_light.vector(wi));
         float sin_theta =
             m_mapping == EnvMapping::EqualArea ? 1.f : safe_sqrt(1 - w_light.z * w_light.z);
         if (sin_theta <= 0) return 0;
-        return m_dist.pdf(to_uv(w_light)) * jacobian_inv(sin_theta);
+        return dist.pdf(to_uv(w_light)) * jacobian_inv(sin_theta);
     }
     RGB lookup(Vec2 uv) const {
         int x = std::clamp(int(uv.x * float(m_image.width)), 0, m_image.width - 1);
@@ -226,7 +260,8 @@ private:
     Image m_image;
     EnvMapping m_mapping;
     Transform m_to_world, m_to_light;
-    Distribution2D m_dist;
+    Distribution2D m_dist;         // luminance (times sin theta for lat-long), floored
+    Distribution2D m_compensated;  // the part above the mean: allow_incomplete_pdf
     Vec3 m_center;
     float m_radius = 0;
 };

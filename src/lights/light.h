@@ -30,6 +30,11 @@ struct LightSampleContext {
     Vec3 p;   // receiving point
     Vec3 ng;  // its geometric normal (zero if none)
     Vec3 ns;  // its shading normal (zero if none)
+    // The caller also samples the BSDF and weighs the two by MIS, with pdf_li given the same
+    // context (pbrt-v4's allowIncompletePDF): a light may then leave out of its density the
+    // directions that BSDF sampling covers well (the image infinite light leaves out those
+    // darker than its average, a uniform one all), which lowers the variance.
+    bool allow_incomplete_pdf = false;
 };
 
 struct LightLiSample {

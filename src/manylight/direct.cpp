@@ -47,6 +47,7 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
         Ray ray = spawn_ray(si, bs->wi);
         SurfaceInteraction hit;
         LightSampleContext ctx = light_context(si);
+        ctx.allow_incomplete_pdf = true;  // as estimate_direct's light samples above
         auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
             float p_light = pmf(light->index) * light->pdf_li(ctx, ray.d, p, n, hit.prim_id);
             return Le * power_heuristic(bs->pdf_solid_angle, p_light);

@@ -11,7 +11,11 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
                         uint32_t prim) {
         if (full_weight) return Le;
         float pmf = light_sampler ? light_sampler->pmf(prev_ctx, light) : 1.f;
-        return Le * power_heuristic(prev_pdf, pmf * light->pdf_li(prev_ctx, ray.d, p, n, prim));
+        // The light samples this weighs against were drawn with the incomplete density
+        // (estimate_direct with MIS).
+        LightSampleContext ctx = prev_ctx;
+        ctx.allow_incomplete_pdf = true;
+        return Le * power_heuristic(prev_pdf, pmf * light->pdf_li(ctx, ray.d, p, n, prim));
     };
     RGB L;
     if (!hit) {
@@ -28,7 +32,9 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis, float light_pmf) {
-    auto ls = light.sample_li(light_context(si), u_light);
+    LightSampleContext ctx = light_context(si);
+    ctx.allow_incomplete_pdf = mis;
+    auto ls = light.sample_li(ctx, u_light);
     if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return RGB();
     RGB f = bsdf.eval(si.wo, ls->wi) * abs_dot(ls->wi, si.ns);
     if (f.is_black() || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
