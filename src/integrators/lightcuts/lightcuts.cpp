@@ -144,20 +144,21 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
 
 RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
                             ScratchBuffer& scratch, Point2i pixel) const {
-    return li_sample(ray, scene, sampler, scratch, pixel, nullptr, {});
+    return li_sample(ray, scene, sampler, scratch, pixel, nullptr, {}, -1);
 }
 
 RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& sampler,
                                    ScratchBuffer& scratch, Point2i pixel, SparseCut* record,
-                                   std::span<const SparseCut* const> corners) const {
+                                   std::span<const SparseCut* const> corners, int first_k) const {
     size_t i = size_t(pixel.y) * m_width + pixel.x;
     bool first = true;
     return gather_along(
         scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float u) {
             int cut_size = 0;
             RGB direct = m_direct.estimate(scene, g, sampler);
-            const int k = std::min(m_reps - 1, int(u * float(m_reps)));
             const bool at_first = first;
+            const int k =
+                at_first && first_k >= 0 ? first_k : std::min(m_reps - 1, int(u * float(m_reps)));
             first = false;
             RGB c;
             if (at_first && !corners.empty() && corners_agree(g, corners)) {
@@ -209,13 +210,18 @@ RenderResult LightcutsIntegrator::render_reconstructed(const RenderContext& ctx)
         ScratchBuffer scratch;
     };
     ThreadLocal<State> states([&] { return State{ctx.sampler.clone(), ScratchBuffer()}; });
-    // One camera sample of `pixel`, as PixelIntegrator::render takes it.
+    // One camera sample of `pixel`, as PixelIntegrator::render takes it. At its first gather
+    // point every pixel's sample s shades with representative s mod reps of each node, so that
+    // the corners' shadow rays tested the very lights a sample between them stands for; over a
+    // pixel's samples the representatives (each drawn at random when the tree was built) take
+    // turns, which keeps the estimate unbiased.
     auto sample = [&](Point2i pixel, int s, SparseCut* record,
                       std::span<const SparseCut* const> corners, float* weight) {
         State& st = states.local();
         st.sampler->start_pixel_sample(pixel, s);
         Ray ray = pixel_sample_ray(ctx, pixel, *st.sampler, weight);
-        RGB L = li_sample(ray, ctx.scene, *st.sampler, st.scratch, pixel, record, corners);
+        RGB L =
+            li_sample(ray, ctx.scene, *st.sampler, st.scratch, pixel, record, corners, s % m_reps);
         st.scratch.reset();
         return L;
     };

@@ -71,10 +71,11 @@ private:
               int max_cut, std::vector<CutNode>* cut_out = nullptr) const;
     // li() with reconstruction cuts: the sample's first gather point records its full cut in
     // *record (a sparse sample), or is shaded by a reconstruction cut from `corners` where they
-    // agree with it (a sample between them). Both null: li().
+    // agree with it (a sample between them). Both null: li(). first_k >= 0: the first gather
+    // point shades with representative first_k of every node (else one drawn from its sampler).
     RGB li_sample(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
-                  Point2i pixel, SparseCut* record,
-                  std::span<const SparseCut* const> corners) const;
+                  Point2i pixel, SparseCut* record, std::span<const SparseCut* const> corners,
+                  int first_k) const;
     // The render with lightcuts.reconstruct > 1: per sample index, the sparse samples' full
     // cuts first, then every pixel (reconstruction.h).
     RenderResult render_reconstructed(const RenderContext& ctx);
