@@ -161,9 +161,13 @@ RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& 
                 at_first && first_k >= 0 ? first_k : std::min(m_reps - 1, int(u * float(m_reps)));
             first = false;
             RGB c;
-            if (at_first && !corners.empty() && corners_agree(g, corners)) {
-                c = direct +
-                    reconstruction_cut(scene, m_set, m_settings, m_tree, g, k, corners, &cut_size);
+            std::array<const SparseCut*, 4> agreeing;
+            int n_agreeing =
+                at_first && !corners.empty() ? agreeing_corners(g, corners, &agreeing) : 0;
+            if (n_agreeing >= kReconstructMinCorners) {
+                c = direct + reconstruction_cut(scene, m_set, m_settings, m_tree, g, k,
+                                                std::span(agreeing.data(), size_t(n_agreeing)),
+                                                &cut_size);
                 m_reconstructed.fetch_add(1, std::memory_order_relaxed);
                 m_reconstructed_nodes.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
             } else {

@@ -23,16 +23,19 @@ uint8_t lookup(const SparseCut& c, int32_t node) {
 
 }  // namespace
 
-bool corners_agree(const GatherPoint& g, std::span<const SparseCut* const> corners) {
+int agreeing_corners(const GatherPoint& g, std::span<const SparseCut* const> corners,
+                     std::array<const SparseCut*, 4>* agreeing) {
     const Vec3& p = g.si.p;
     const Vec3& n = g.si.ns;
+    int count = 0;
     for (const SparseCut* c : corners) {
-        if (!c->valid || c->material != g.si.material) return false;
-        if (dot(c->n, n) < kReconstructNormalCos) return false;
+        if (!c->valid || c->material != g.si.material) continue;
+        if (dot(c->n, n) < kReconstructNormalCos) continue;
         Vec3 d = c->p - p;
-        if (std::abs(dot(d, n)) > kReconstructPlaneSlope * length(d)) return false;
+        if (std::abs(dot(d, n)) > kReconstructPlaneSlope * length(d)) continue;
+        if (count < 4) (*agreeing)[size_t(count++)] = c;
     }
-    return true;
+    return count;
 }
 
 RGB reconstruction_cut(const Scene& scene, const PointLightSet& set,
