@@ -102,7 +102,10 @@ private:
     float m_floor_luminance = 0;
     bool m_verify = false;
     int m_reps = kLightTreeReps;  // representatives per node drawn from (1: always the first)
-    int m_reconstruct = 0;        // the sparse grid's spacing B in pixels (0, 1: off)
+    // The sparse grid's spacing B in pixels (0, 1: off). Off by default: 4 halves the kitchen's
+    // CPU time at 320x180 for 1% more relMSE, but it does not hold `error` per pixel where blocks
+    // are large in the scene (bench/RESULTS.md, "Issue 13, session 9").
+    int m_reconstruct = 0;
     // Figures of reconstruction: samples shaded by a reconstruction cut, their nodes, and the
     // samples between sparse ones that had to compute a full cut (corners disagreed).
     mutable std::atomic<uint64_t> m_reconstructed{0}, m_reconstructed_nodes{0}, m_refined{0};
