@@ -21,12 +21,23 @@ constexpr int kDefaultVplCount = 100000;
 
 RGB visible_point_light(const Scene& scene, const PointLightSet& set,
                         const ManyLightSettings& settings, const PointLight& pl,
-                        const GatherPoint& g) {
+                        const GatherPoint& g, ShadowResult* shadow) {
     RGB c;
-    Ray shadow;
-    if (!point_light_contribution(set, pl, g, &c, &shadow)) return RGB();
+    Ray ray;
+    if (shadow) *shadow = ShadowResult::NotCast;
+    if (!point_light_contribution(set, pl, g, &c, &ray)) return RGB();
     c = settings.clamped(c, pl.is_vpl);
-    return scene.occluded(shadow) ? RGB() : c;
+    bool blocked = scene.occluded(ray);
+    if (shadow) *shadow = blocked ? ShadowResult::Occluded : ShadowResult::Visible;
+    return blocked ? RGB() : c;
+}
+
+RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& settings,
+                           const PointLight& pl, const GatherPoint& g) {
+    RGB c;
+    Ray ray;
+    if (!point_light_contribution(set, pl, g, &c, &ray)) return RGB();
+    return settings.clamped(c, pl.is_vpl);
 }
 
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {

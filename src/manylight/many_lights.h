@@ -48,12 +48,21 @@ struct ManyLightSettings {
     }
 };
 
+// What the shadow ray of visible_point_light found: none was cast (the light gives nothing at
+// the point whatever the visibility), or the light was seen or blocked.
+enum class ShadowResult : uint8_t { NotCast, Visible, Occluded };
+
 // What `pl` gives at g with its shadow ray: point_light_contribution, clamped as the settings
 // say (VPLs), or nothing when the ray is blocked. The one shading of a single point light that
-// `vpl`, `lightcuts` and `stochasticlightcuts` share.
+// `vpl`, `lightcuts` and `stochasticlightcuts` share. *shadow (when given) receives what the
+// shadow ray found.
 RGB visible_point_light(const Scene& scene, const PointLightSet& set,
                         const ManyLightSettings& settings, const PointLight& pl,
-                        const GatherPoint& g);
+                        const GatherPoint& g, ShadowResult* shadow = nullptr);
+// The same without the shadow ray, the light taken as seen: for lightcuts' reconstruction cuts,
+// where the nearby samples' shadow rays say it is.
+RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& settings,
+                           const PointLight& pl, const GatherPoint& g);
 
 // vpl.sampler and the settings of the sampler it names (manylight/vpl_sampler.h).
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* options);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 
 #include "core/cone.h"
 #include "core/parallel.h"
@@ -11,6 +12,7 @@
 #include "manylight/gather.h"
 #include "manylight/pilot.h"
 #include "manylight/representative.h"
+#include "render/render_loop.h"
 
 namespace ml {
 
@@ -24,6 +26,11 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     m_reps = settings.get_int("reps", kLightTreeReps);
     if (m_reps < 1 || m_reps > kLightTreeReps)
         throw UsageError(fmt::format("lightcuts.reps must be 1 to {}", kLightTreeReps));
+    m_reconstruct = settings.get_int("reconstruct", m_reconstruct);
+    if (m_reconstruct < 0 || m_reconstruct > 64)
+        throw UsageError(
+            "lightcuts.reconstruct must be 0 to 64 (the sparse grid's spacing in "
+            "pixels; 0 or 1: off)");
     std::string criterion = settings.get_string("criterion", "max");
     if (criterion == "max")
         m_criterion = Criterion::Max;
@@ -52,7 +59,10 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     m_gather_points = 0;
     m_cut_max = 0;
     m_capped = 0;
-    RenderResult r = PixelIntegrator::render(ctx);
+    m_reconstructed = 0;
+    m_reconstructed_nodes = 0;
+    m_refined = 0;
+    RenderResult r = m_reconstruct > 1 ? render_reconstructed(ctx) : PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
     uint64_t n = m_gather_points.load();
@@ -74,7 +84,16 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
           {"capped_fraction", capped},
           {"gather_points", n},
           {"shadow_rays_per_pixel", shadow_per_pixel},
-          {"tree_build_seconds", m_tree_seconds}};
+          {"tree_build_seconds", m_tree_seconds},
+          {"reconstruct", m_reconstruct}};
+    if (m_reconstruct > 1) {
+        uint64_t recon = m_reconstructed.load();
+        lc["reconstruction"] = {
+            {"reconstructed_fraction", n ? double(recon) / double(n) : 0.0},
+            {"refined_fraction", n ? double(m_refined.load()) / double(n) : 0.0},
+            {"avg_reconstruction_cut_size",
+             recon ? double(m_reconstructed_nodes.load()) / double(recon) : 0.0}};
+    }
     lc.update(many_light_figures(m_set, m_direct));
     if (m_verify) {
         uint64_t nodes = m_verified_nodes.load();
@@ -125,13 +144,44 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
 
 RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
                             ScratchBuffer& scratch, Point2i pixel) const {
+    return li_sample(ray, scene, sampler, scratch, pixel, nullptr, {}, -1);
+}
+
+RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& sampler,
+                                   ScratchBuffer& scratch, Point2i pixel, SparseCut* record,
+                                   std::span<const SparseCut* const> corners, int first_k) const {
     size_t i = size_t(pixel.y) * m_width + pixel.x;
+    bool first = true;
     return gather_along(
         scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float u) {
             int cut_size = 0;
             RGB direct = m_direct.estimate(scene, g, sampler);
-            RGB c = direct + shade(scene, g, std::min(m_reps - 1, int(u * float(m_reps))),
-                                   &cut_size, direct);
+            const bool at_first = first;
+            const int k =
+                at_first && first_k >= 0 ? first_k : std::min(m_reps - 1, int(u * float(m_reps)));
+            first = false;
+            RGB c;
+            std::array<const SparseCut*, 4> agreeing;
+            int n_agreeing =
+                at_first && !corners.empty() ? agreeing_corners(g, corners, &agreeing) : 0;
+            if (n_agreeing >= kReconstructMinCorners) {
+                c = direct + reconstruction_cut(scene, m_set, m_settings, m_tree, g, k,
+                                                std::span(agreeing.data(), size_t(n_agreeing)),
+                                                &cut_size);
+                m_reconstructed.fetch_add(1, std::memory_order_relaxed);
+                m_reconstructed_nodes.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
+            } else {
+                SparseCut* out = at_first ? record : nullptr;
+                if (at_first && !corners.empty()) m_refined.fetch_add(1, std::memory_order_relaxed);
+                c = direct +
+                    shade(scene, g, k, &cut_size, direct, m_max_cut, out ? &out->cut : nullptr);
+                if (out) {
+                    out->valid = true;
+                    out->material = g.si.material;
+                    out->p = g.si.p;
+                    out->n = g.si.ns;
+                }
+            }
             m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
             m_gather_points.fetch_add(1, std::memory_order_relaxed);
             if (cut_size >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
@@ -144,6 +194,88 @@ RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler
             }
             return c;
         });
+}
+
+RenderResult LightcutsIntegrator::render_reconstructed(const RenderContext& ctx) {
+    prepare(ctx.scene);
+    before_pixels(ctx);
+    // The sparse grid: columns 0, B, 2B, ... and the last one; rows alike.
+    const int w = ctx.film.width(), h = ctx.film.height(), b = m_reconstruct;
+    auto grid_count = [&](int size) { return size > 0 ? (size - 1 + b - 1) / b + 1 : 0; };
+    auto grid_pos = [&](int i, int size) { return std::min(i * b, size - 1); };
+    const int gw = grid_count(w), gh = grid_count(h);
+    const size_t sparse = size_t(gw) * size_t(gh);
+    std::vector<SparseCut> cuts(sparse);
+    std::vector<RGB> values(sparse);
+    std::vector<float> weights(sparse);
+    std::vector<uint8_t> done(sparse);
+    struct State {
+        std::unique_ptr<Sampler> sampler;
+        ScratchBuffer scratch;
+    };
+    ThreadLocal<State> states([&] { return State{ctx.sampler.clone(), ScratchBuffer()}; });
+    // One camera sample of `pixel`, as PixelIntegrator::render takes it. At its first gather
+    // point every pixel's sample s shades with representative s mod reps of each node, so that
+    // the corners' shadow rays tested the very lights a sample between them stands for; over a
+    // pixel's samples the representatives (each drawn at random when the tree was built) take
+    // turns, which keeps the estimate unbiased.
+    auto sample = [&](Point2i pixel, int s, SparseCut* record,
+                      std::span<const SparseCut* const> corners, float* weight) {
+        State& st = states.local();
+        st.sampler->start_pixel_sample(pixel, s);
+        Ray ray = pixel_sample_ray(ctx, pixel, *st.sampler, weight);
+        RGB L =
+            li_sample(ray, ctx.scene, *st.sampler, st.scratch, pixel, record, corners, s % m_reps);
+        st.scratch.reset();
+        return L;
+    };
+    RenderContext pass_ctx = ctx;
+    pass_ctx.progress = nullptr;  // progress counts whole passes, below
+    RenderResult result;
+    for (int s = 0; s < ctx.spp; ++s) {
+        // 1. The sparse samples' full cuts: sample s of the grid's pixels, each the same whatever
+        // the thread that takes it, so the reconstruction is too.
+        parallel_for(size_t(0), sparse, [&](size_t i) {
+            cuts[i].valid = false;
+            done[i] = 0;
+            if (ctx.out_of_time()) return;
+            Point2i pixel{grid_pos(int(i % size_t(gw)), w), grid_pos(int(i / size_t(gw)), h)};
+            values[i] = sample(pixel, s, &cuts[i], {}, &weights[i]);
+            done[i] = 1;
+        });
+        // 2. Every pixel's sample s: the grid's are those just taken; the others reconstruct
+        // from their block's corners.
+        int64_t ran = render_pixels(pass_ctx, 1, [&](Point2i pixel, int64_t, int64_t) {
+            const bool on_x = pixel.x % b == 0 || pixel.x == w - 1;
+            const bool on_y = pixel.y % b == 0 || pixel.y == h - 1;
+            const int ix = pixel.x / b, iy = pixel.y / b;
+            if (on_x && on_y) {
+                size_t i = size_t(pixel.y == h - 1 ? gh - 1 : iy) * size_t(gw) +
+                           size_t(pixel.x == w - 1 ? gw - 1 : ix);
+                if (done[i]) ctx.film.add_sample(pixel, values[i], weights[i]);
+                return;
+            }
+            const int ix1 = std::min(ix + 1, gw - 1), iy1 = std::min(iy + 1, gh - 1);
+            const size_t corner_index[4] = {size_t(iy) * gw + ix, size_t(iy) * gw + ix1,
+                                            size_t(iy1) * gw + ix, size_t(iy1) * gw + ix1};
+            std::array<const SparseCut*, 4> corners;
+            bool all_done = true;
+            for (int c = 0; c < 4; ++c) {
+                corners[size_t(c)] = &cuts[corner_index[c]];
+                all_done = all_done && done[corner_index[c]];
+            }
+            float weight;
+            RGB L = sample(pixel, s, nullptr,
+                           all_done ? std::span<const SparseCut* const>(corners)
+                                    : std::span<const SparseCut* const>(),
+                           &weight);
+            ctx.film.add_sample(pixel, L, weight);
+        });
+        if (ran == 0) break;
+        result.spp = s + 1;
+        report_progress(ctx, double(s + 1) / double(ctx.spp));
+    }
+    return result;
 }
 
 RGB LightcutsIntegrator::error_bound(const RGB& bound, const LightTreeNode& n,
@@ -165,12 +297,13 @@ RGB LightcutsIntegrator::error_bound(const RGB& bound, const LightTreeNode& n,
 }
 
 RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
-                               const RGB& known, int max_cut) const {
+                               const RGB& known, int max_cut, std::vector<CutNode>* cut_out) const {
     const Vec3& x = g.si.p;
     const Vec3& wo = g.si.wo;
     // The representative's contribution: exact, with its shadow ray (and VPL clamping).
-    auto light_value = [&](int32_t light) {
-        return visible_point_light(scene, m_set, m_settings, m_set.lights[size_t(light)], g);
+    auto light_value = [&](int32_t light, ShadowResult* shadow) {
+        return visible_point_light(scene, m_set, m_settings, m_set.lights[size_t(light)], g,
+                                   shadow);
     };
     // Bounds are made lazily: a new node first gets the BSDF's bound over every direction (one
     // per gather point) times its geometric bound, and its own, tighter material bound only if
@@ -187,9 +320,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     // A node stands for its cluster: the representative's value scaled by the cluster's weight
     // over its own, the same factor in every channel, which makes the expectation over the
     // representatives the exact sum whatever the lights' colours (representative.h).
-    auto make_entry = [&](int32_t index, int32_t rep, const RGB& rep_value) {
+    auto make_entry = [&](int32_t index, int32_t rep, const RGB& rep_value, ShadowResult shadow) {
         const LightTreeNode& n = m_tree.node(index);
-        CutEntry e{index, rep, 0.f, RGB(), rep_value, true};
+        CutEntry e{index, rep, 0.f, RGB(), rep_value, true, shadow};
         if (n.is_leaf()) {
             e.estimate = rep_value;  // exact
             return e;
@@ -211,7 +344,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         int32_t root = m_tree.root(kind);
         if (root < 0) continue;
         int32_t rep = m_tree.rep(root, k);
-        CutEntry e = make_entry(root, rep, light_value(rep));
+        ShadowResult shadow;
+        RGB value = light_value(rep, &shadow);
+        CutEntry e = make_entry(root, rep, value, shadow);
         total += e.estimate;
         bound_sum += e.bound;
         bound_sq += e.bound * e.bound;
@@ -251,7 +386,9 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         for (int32_t child : n.children) {
             // A child whose representative is the parent's reuses its shadow ray.
             int32_t rep = m_tree.rep(child, k);
-            CutEntry c = make_entry(child, rep, rep == e.rep ? e.rep_value : light_value(rep));
+            ShadowResult shadow = e.shadow;
+            RGB value = rep == e.rep ? e.rep_value : light_value(rep, &shadow);
+            CutEntry c = make_entry(child, rep, value, shadow);
             total += c.estimate;
             bound_sum += c.bound;
             bound_sq += c.bound * c.bound;
@@ -264,6 +401,11 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     RGB L;
     for (const CutEntry& e : heap) L += e.estimate;
     if (m_verify && max_cut == m_max_cut) verify_cut(scene, g, heap, L);  // not the pilot
+    if (cut_out) {
+        cut_out->clear();
+        for (const CutEntry& e : heap) cut_out->push_back({e.node, e.shadow});
+        std::sort(cut_out->begin(), cut_out->end());
+    }
     return L;
 }
 

@@ -19,11 +19,15 @@
 //   until 3.26 sqrt(sum of bounds^2) is below the error bounds the whole estimate's error by it
 //   with probability >= 99% (Hoeffding's inequality).
 // - "sum": the sum of the bounds below the error: a certain bound, at the price of large cuts.
+//
+// `lightcuts.reconstruct` = B > 1: full cuts only at every B-th pixel in x and y, reconstruction
+// cuts from them in between (reconstruction.h); 0 or 1: a full cut at every gather point.
 #pragma once
 
 #include <atomic>
 #include <vector>
 
+#include "integrators/lightcuts/reconstruction.h"
 #include "manylight/gather.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"
@@ -51,18 +55,30 @@ private:
         RGB estimate;        // the node's estimate
         RGB rep_value;       // the representative's own contribution, visibility included
         bool tight = false;  // bound uses the node's own material bound (else the BSDF's overall)
+        ShadowResult shadow = ShadowResult::NotCast;  // what rep_value's shadow ray found
         bool operator<(const CutEntry& o) const { return bound < o.bound; }
     };
     // The cut at one gather point: its radiance; *cut_size receives the number of nodes.
     // Representative k of every node stands for it (0 <= k < m_reps).
     // `known`: radiance the gather point gets besides the cut (sampled direct light), which
-    // counts in the estimate the error threshold is relative to.
+    // counts in the estimate the error threshold is relative to. *cut_out (when given) receives
+    // the cut's nodes and their shadow rays' findings, sorted by node.
     RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size,
               const RGB& known = RGB()) const {
         return shade(scene, g, k, cut_size, known, m_max_cut);
     }
     RGB shade(const Scene& scene, const GatherPoint& g, int k, int* cut_size, const RGB& known,
-              int max_cut) const;
+              int max_cut, std::vector<CutNode>* cut_out = nullptr) const;
+    // li() with reconstruction cuts: the sample's first gather point records its full cut in
+    // *record (a sparse sample), or is shaded by a reconstruction cut from `corners` where they
+    // agree with it (a sample between them). Both null: li(). first_k >= 0: the first gather
+    // point shades with representative first_k of every node (else one drawn from its sampler).
+    RGB li_sample(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+                  Point2i pixel, SparseCut* record, std::span<const SparseCut* const> corners,
+                  int first_k) const;
+    // The render with lightcuts.reconstruct > 1: per sample index, the sparse samples' full
+    // cuts first, then every pixel (reconstruction.h).
+    RenderResult render_reconstructed(const RenderContext& ctx);
     // A node's error bound (RGB, times the gather point's throughput) from a bound of its
     // lights' sum: at most the larger of that and the estimate. With vpl.clamp > 0 the sum is
     // also at most n times the clamp per channel, for a node of n VPLs.
@@ -86,6 +102,13 @@ private:
     float m_floor_luminance = 0;
     bool m_verify = false;
     int m_reps = kLightTreeReps;  // representatives per node drawn from (1: always the first)
+    // The sparse grid's spacing B in pixels (0, 1: off). Off by default: 4 halves the kitchen's
+    // CPU time at 320x180 for 1% more relMSE, but it does not hold `error` per pixel where blocks
+    // are large in the scene (bench/RESULTS.md, "Issue 13, session 9").
+    int m_reconstruct = 0;
+    // Figures of reconstruction: samples shaded by a reconstruction cut, their nodes, and the
+    // samples between sparse ones that had to compute a full cut (corners disagreed).
+    mutable std::atomic<uint64_t> m_reconstructed{0}, m_reconstructed_nodes{0}, m_refined{0};
     mutable std::atomic<uint64_t> m_verified_nodes{0}, m_violations{0};
     mutable std::atomic<double> m_verify_abs_error{0}, m_verify_bounds{0}, m_verify_total{0};
     PointLightSet m_set;
