@@ -49,6 +49,8 @@ int run_info(const InfoArgs& args);
 struct ViewArgs {
     std::string scene, bind = "127.0.0.1", integrator, resolution, output_dir = ".";
     int port = 8080, threads = 0, spp = 0;
+    int preview = 2;       // moving frames at 1/preview of the resolution
+    int bench_frames = 0;  // > 0: time this many moving frames, print them, exit (no server)
     std::vector<std::string> set;
     double exit_after = 0;  // seconds; > 0: stop by itself (tests)
 };

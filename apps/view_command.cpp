@@ -1,7 +1,13 @@
 // `manylight view scene.pbrt`: look around a scene in the browser before rendering it.
 #include <fmt/format.h>
 
+#include <sys/resource.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -18,6 +24,58 @@ namespace {
 
 // The viewer's default size: the scene's film, halved until it is at most 640 pixels wide.
 constexpr int kDefaultViewWidth = 640;
+
+// The viewer's eye turned by `degrees` about the vertical (up) axis through its target.
+std::array<float, 9> orbit(const std::array<float, 9>& v, float degrees) {
+    Vec3 eye(v[0], v[1], v[2]), target(v[3], v[4], v[5]), up = normalize(Vec3(v[6], v[7], v[8]));
+    Vec3 d = eye - target;
+    Vec3 along = up * dot(d, up), across = d - along, side = cross(up, across);
+    float a = degrees * kPi / 180.f;
+    Vec3 e = target + along + across * std::cos(a) + side * std::sin(a);
+    return {e.x, e.y, e.z, v[3], v[4], v[5], v[6], v[7], v[8]};
+}
+
+// --bench-frames: the time from a camera move to the frame message the clients get (render
+// and tone mapping), for views 2 degrees apart, alternating the preview (the first frame after
+// a move) and the full resolution (after the view stops), so that a shared machine's load
+// falls on both alike.
+void bench_moving_frames(const ViewRenderer& renderer, int frames) {
+    const ViewSettings s = renderer.settings();
+    nlohmann::json preview_ms = nlohmann::json::array(), full_ms = nlohmann::json::array();
+    nlohmann::json preview_cpu = nlohmann::json::array(), full_cpu = nlohmann::json::array();
+    // The process's CPU seconds (user and system, all threads): on a shared machine the wall
+    // time counts the others' work too; on a quiet one, wall = CPU / threads at best.
+    auto cpu_seconds = [] {
+        struct rusage u {};
+        getrusage(RUSAGE_SELF, &u);
+        return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+               1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+    };
+    for (int i = 0; i < frames; ++i) {
+        std::array<float, 9> view = orbit(renderer.home(), 2.f * float(i + 1));
+        for (int divider : {s.preview, 1}) {
+            auto t0 = std::chrono::steady_clock::now();
+            double c0 = cpu_seconds();
+            auto frame = renderer.moving_frame(view, s, divider);
+            renderer.frame_message(frame.image, nlohmann::json::object(), s.exposure);
+            double ms =
+                1000 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            (divider == 1 ? full_ms : preview_ms).push_back(ms);
+            (divider == 1 ? full_cpu : preview_cpu).push_back(cpu_seconds() - c0);
+            if (s.preview == 1) break;
+        }
+    }
+    nlohmann::json out = {{"frames", frames},
+                          {"preview", s.preview},
+                          {"vpls", s.vpls},
+                          {"interleave", s.interleave},
+                          {"filter", s.filter},
+                          {"preview_ms", preview_ms},
+                          {"full_ms", s.preview == 1 ? preview_ms : full_ms},
+                          {"preview_cpu_s", preview_cpu},
+                          {"full_cpu_s", s.preview == 1 ? preview_cpu : full_cpu}};
+    std::printf("%s\n", out.dump().c_str());
+}
 
 }  // namespace
 
@@ -43,6 +101,14 @@ void add_view_command(CLI::App& app, ViewArgs& a) {
         ->check(setting());
     v->add_option("--output-dir", a.output_dir, "where Save EXR writes view-NNN.exr (default: .)")
         ->check(CLI::ExistingDirectory);
+    v->add_option("--preview", a.preview,
+                  "moving frames at 1/N of the width and height, then one at full resolution when "
+                  "the view stops (default 2; 1: always full)")
+        ->check(CLI::Range(1, 8));
+    v->add_option("--bench-frames", a.bench_frames,
+                  "no server: time N moving frames of an orbit about the view's target, at the "
+                  "preview's and at full resolution, print them as JSON and exit (bench/)")
+        ->check(positive_integer());
     v->add_option("--exit-after", a.exit_after, "stop by itself after this many seconds (tests)")
         ->check(positive_seconds());
 }
@@ -53,6 +119,7 @@ int run_view(const ViewArgs& a) {
     config.scene_path = a.scene;
     config.threads = a.threads;
     config.save_dir = a.output_dir;
+    config.preview = a.preview;
     config.spp = a.spp > 0 ? a.spp : 64;
     config.integrator = a.integrator.empty() ? "path" : a.integrator;
     for (const std::string& kv : a.set) {
@@ -70,12 +137,23 @@ int run_view(const ViewArgs& a) {
             config.height /= 2;
         }
     }
+#ifdef __GLIBC__
+    // Frame after frame allocates and frees buffers of the same sizes (film, G-buffer): keep
+    // the freed memory in the heap instead of unmapping it, so that each frame does not fault
+    // in and zero fresh pages (measured: about 7% of a frame's CPU time, bench/RESULTS.md).
+    mallopt(M_MMAP_THRESHOLD, 256 << 20);
+    mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
     std::unique_ptr<Scene> scene;
     {
         ThreadLimit limit(a.threads > 0 ? a.threads : default_thread_count());
         scene = std::make_unique<Scene>(std::move(desc));
     }
     ViewRenderer renderer(*scene, config);
+    if (a.bench_frames > 0) {
+        bench_moving_frames(renderer, a.bench_frames);
+        return 0;
+    }
     ViewServerOptions server;
     server.bind = a.bind;
     server.port = a.port;

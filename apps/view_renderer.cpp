@@ -63,9 +63,9 @@ std::map<std::string, std::string> parse_pairs(const std::string& text) {
 }  // namespace
 
 nlohmann::json ViewSettings::to_json() const {
-    return {{"vpls", vpls},         {"interleave", interleave}, {"filter", filter},
-            {"exposure", exposure}, {"integrator", integrator}, {"spp", spp},
-            {"set", refine_set}};
+    return {{"vpls", vpls},       {"interleave", interleave}, {"filter", filter},
+            {"preview", preview}, {"exposure", exposure},     {"integrator", integrator},
+            {"spp", spp},         {"set", refine_set}};
 }
 
 const std::vector<std::string>& ViewRenderer::refine_integrators() {
@@ -77,6 +77,12 @@ ViewRenderer::ViewRenderer(const Scene& scene, ViewConfig config)
     : m_scene(scene), m_config(std::move(config)), m_home(home_view(scene)), m_view(m_home) {
     m_settings.integrator = m_config.integrator;
     m_settings.spp = m_config.spp;
+    m_settings.preview = m_config.preview;
+}
+
+ViewSettings ViewRenderer::settings() const {
+    std::lock_guard lock(m_mutex);
+    return m_settings;
 }
 
 void ViewRenderer::set_view(const std::array<float, 9>& v) {
@@ -111,6 +117,8 @@ void ViewRenderer::set_settings(const nlohmann::json& j) {
             s.vpls = int(number("vpls", 0, 1 << 16));
         else if (key == "filter")
             s.filter = int(number("filter", 0, 8));
+        else if (key == "preview")
+            s.preview = int(number("preview", 1, 8));
         else if (key == "exposure")
             s.exposure = float(number("exposure", -20, 20));
         else if (key == "spp")
@@ -138,8 +146,9 @@ void ViewRenderer::set_settings(const nlohmann::json& j) {
             throw UsageError("settings: unknown setting \"" + key + "\"");
     }
     bool only_exposure = s.vpls == m_settings.vpls && s.interleave == m_settings.interleave &&
-                         s.filter == m_settings.filter && s.integrator == m_settings.integrator &&
-                         s.spp == m_settings.spp && s.refine_set == m_settings.refine_set;
+                         s.filter == m_settings.filter && s.preview == m_settings.preview &&
+                         s.integrator == m_settings.integrator && s.spp == m_settings.spp &&
+                         s.refine_set == m_settings.refine_set;
     m_settings = s;
     if (only_exposure) {
         m_retonemap = true;
@@ -209,6 +218,23 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
     return o;
 }
 
+ViewRenderer::MovingFrame ViewRenderer::moving_frame(const std::array<float, 9>& view,
+                                                     const ViewSettings& s, int divider,
+                                                     const std::atomic<bool>* cancel) const {
+    ML_ASSERT(divider >= 1, "a preview divider below 1");
+    RenderOptions o = options_for(true, view, s, 1);
+    o.cancel = cancel;
+    const int w = m_config.width, h = m_config.height;
+    o.width = (w + divider - 1) / divider;
+    o.height = (h + divider - 1) / divider;
+    RenderOutput out = render_built_scene(m_scene, o);
+    if (divider == 1) return {std::move(out.image), std::move(out.figures)};
+    MovingFrame frame{Image(w, h), std::move(out.figures)};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) frame.image.at(x, y) = out.image.at(x / divider, y / divider);
+    return frame;
+}
+
 std::string ViewRenderer::command_line(const std::array<float, 9>& v, const ViewSettings& s,
                                        const std::string& output) const {
     RenderOptions o = options_for(false, v, s, s.spp);
@@ -248,8 +274,9 @@ std::shared_ptr<const ViewMessage> ViewRenderer::frame_message(const Image& imag
 }
 
 void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessage>)>& broadcast) {
-    uint64_t shown = 0;  // the version of the last moving frame
-    int pass_spp = 0;    // samples of the last refining pass finished for `shown`
+    uint64_t shown = 0;       // the version of the last moving frame
+    bool full_shown = false;  // that frame was at full resolution
+    int pass_spp = 0;         // samples of the last refining pass finished for `shown`
     bool converged = false;
     Image converged_image;
     std::array<float, 9> converged_view{};
@@ -312,7 +339,7 @@ void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessag
             }
             continue;
         }
-        if (version == shown) {
+        if (version == shown && full_shown) {
             // At rest: refine after a pause without changes.
             if (pass_spp == 0 &&
                 m_wake.wait_for(lock, kRestBeforeRefining, [&] { return m_version != version; }))
@@ -352,18 +379,23 @@ void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessag
             }
             continue;
         }
-        // Moving: an igi frame of the new view.
+        // Moving: an igi frame of the new view at 1/preview of the resolution (or the view
+        // stopped after one: the same view at full resolution, which a move cancels).
         lock.unlock();
+        const bool full = version == shown;
+        const int divider = full ? 1 : s.preview;
         auto t0 = std::chrono::steady_clock::now();
         try {
-            RenderOutput out = render_built_scene(m_scene, options_for(true, view, s, 1));
+            MovingFrame frame = moving_frame(view, s, divider, full ? &m_cancel : nullptr);
+            if (full && m_cancel) continue;
             double ms = 1000 * seconds_since(t0);
             double interval = 1000 * seconds_since(last_frame_end);
             last_frame_end = std::chrono::steady_clock::now();
             shown = version;
+            full_shown = divider == 1;
             pass_spp = 0;
             converged = false;
-            send_frame(out.image,
+            send_frame(frame.image,
                        {{"type", "frame"},
                         {"mode", "moving"},
                         {"integrator", "igi"},
@@ -372,12 +404,14 @@ void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessag
                         {"progress", 0.0},
                         {"frame_ms", ms},
                         {"interval_ms", interval},
-                        {"vpls", out.figures.vpls},
+                        {"vpls", frame.figures.vpls},
+                        {"preview", divider},
                         {"width", m_config.width},
                         {"height", m_config.height}},
                        s.exposure);
         } catch (const std::exception& e) {
             shown = version;
+            full_shown = true;
             converged = true;
             error(std::string("igi: ") + e.what());
         }

@@ -1,6 +1,8 @@
 // The viewer's render thread (`manylight view`): one scene built once, a view (eye, target, up)
 // and settings that clients change, and frames for them. While the view changes it renders
-// `igi` frames (one sample per pixel); once it rests it refines with the chosen integrator
+// `igi` frames (one sample per pixel), at 1/preview of the resolution while it moves (what
+// viewports do: the first frame after a move must come fast) and once at full resolution when
+// it stops; once it rests it refines with the chosen integrator
 // (path, lightcuts, mdlightcuts) in passes of 1, 4, 16 ... samples up to the target, each a
 // whole render through render_built_scene, so the last pass is the image `manylight render`
 // gives with the same options (the command line it reports). A change cancels the pass running.
@@ -32,13 +34,17 @@ struct ViewConfig {
     int spp = 64;                            // the refinement's target
     std::map<std::string, std::string> set;  // --set, passed to every render
     std::string save_dir = ".";
+    int preview = 2;  // ViewSettings::preview at the start
 };
 
 // What the viewer can change (the `settings` message).
 struct ViewSettings {
     int vpls = 256;
     std::string interleave = "4x4";
-    int filter = 1;      // interleave patterns the blur spans
+    int filter = 1;  // interleave patterns the blur spans
+    // Moving frames render at 1/preview of the width and height, each of their pixels shown
+    // as preview x preview; then one frame at full resolution once the view stops (1: always full).
+    int preview = 2;
     float exposure = 0;  // stops
     std::string integrator = "path";
     int spp = 64;
@@ -63,11 +69,28 @@ public:
     // From the clients (any thread). Throw UsageError for values out of range.
     void set_view(const std::array<float, 9>& look_at);
     void reset_view();
+    // The scene's viewpoint (eye, target, up) and the settings now.
+    const std::array<float, 9>& home() const { return m_home; }
+    ViewSettings settings() const;
     void set_settings(const nlohmann::json& j);
     void request_save();
     // The hello message a new client gets, and the last frame (null before the first).
     std::shared_ptr<const ViewMessage> hello() const;
     std::shared_ptr<const ViewMessage> last_frame() const;
+
+    // A moving frame of `view`: `igi` at 1/divider of the view's width and height (rounded up),
+    // each pixel repeated over divider x divider pixels of the view's size; divider 1 is the
+    // full-resolution frame. Throws what render_built_scene throws; `cancel` as RenderOptions'.
+    struct MovingFrame {
+        Image image;  // at the view's size
+        RenderFigures figures;
+    };
+    MovingFrame moving_frame(const std::array<float, 9>& view, const ViewSettings& s, int divider,
+                             const std::atomic<bool>* cancel = nullptr) const;
+
+    // The frame message of an image: its status and the pixels in 8-bit sRGB after the exposure.
+    std::shared_ptr<const ViewMessage> frame_message(const Image& image, nlohmann::json status,
+                                                     float exposure) const;
 
     // The integrators the viewer refines with.
     static const std::vector<std::string>& refine_integrators();
@@ -77,8 +100,6 @@ private:
                               int spp) const;
     std::string command_line(const std::array<float, 9>& view, const ViewSettings& s,
                              const std::string& output) const;
-    std::shared_ptr<const ViewMessage> frame_message(const Image& image, nlohmann::json status,
-                                                     float exposure) const;
 
     const Scene& m_scene;
     ViewConfig m_config;

@@ -14,7 +14,15 @@ same in every image and the differences are the VPL gathering's alone.
 
 Packets: the 4x4 frame with shadow rays one by one (igi.packets=false) against packets of 8.
 Runs alternate between configurations (the machine is shared; ratios are in one run).
-Usage: bench/igi_bench.py [--reps N] [--bin PATH]
+
+Viewer frames (session 9): the viewer's own moving frames through `manylight view
+--bench-frames N` (no server: N views of an orbit, each rendered at the preview's 1/2 resolution,
+the first frame after a move, and at full resolution, the frame once the view stops, alternating;
+wall milliseconds and the process's CPU seconds per frame, render and tone mapping included).
+With --baseline PATH (main's binary, which has no --bench-frames), the viewer's frame as
+`render` runs it (1 spp, igi.filter_direct, lights.direct_samples=1) alternates between PATH and
+--bin, its seconds.render compared in one run.
+Usage: bench/igi_bench.py [--reps N] [--bin PATH] [--baseline PATH] [--frames N] [--only-frames]
 """
 import json
 import os
@@ -29,6 +37,7 @@ SCENE = os.path.join(ROOT, "..", "shared", "scenes", "kitchen", "scene-v4.pbrt")
 
 CONFIGS = {
     "igi 4x4, 256 VPLs, filter 1": ["igi.vpls=256", "igi.interleave=4x4", "igi.filter=1"],
+    "igi 4x4, 256 VPLs, filter 2": ["igi.vpls=256", "igi.interleave=4x4", "igi.filter=2"],
     "igi 4x4, 256 VPLs, no filter": ["igi.vpls=256", "igi.interleave=4x4", "igi.filter=0"],
     "1x1, 16 VPLs (equal time)": ["igi.vpls=16", "igi.interleave=1x1", "igi.filter=0"],
     "1x1, 256 VPLs (the same VPLs)": ["igi.vpls=256", "igi.interleave=1x1", "igi.filter=0"],
@@ -36,19 +45,22 @@ CONFIGS = {
                                                "igi.filter=1", "igi.packets=false"],
 }
 REFERENCE = ["igi.vpls=1024", "igi.interleave=1x1", "igi.filter=0"]
+# The viewer's moving frame as `render` gives it (apps/view_renderer.cpp, options_for).
+VIEWER_FRAME = ["igi.vpls=256", "igi.interleave=4x4", "igi.filter=1", "lights.direct_samples=1",
+                "igi.filter_direct=true"]
 
 
-def command(sets, out, stats):
-    cmd = [BIN, "render", SCENE, "-q", "--integrator", "igi", "--resolution", "640x360",
+def command(sets, out, stats, binary=None):
+    cmd = [binary or BIN, "render", SCENE, "-q", "--integrator", "igi", "--resolution", "640x360",
            "--spp", "1", "--threads", "2", "-o", out, "--stats", stats]
     for s in sets:
         cmd += ["--set", s]
     return cmd
 
 
-def render(sets, tmp, name):
+def render(sets, tmp, name, binary=None):
     out, stats = os.path.join(tmp, name + ".exr"), os.path.join(tmp, name + ".json")
-    subprocess.run(command(sets, out, stats), check=True)
+    subprocess.run(command(sets, out, stats, binary), check=True)
     with open(stats) as f:
         return out, json.load(f)
 
@@ -58,12 +70,51 @@ def relmse(a, b):
     return json.loads(r.stdout)["relmse"]
 
 
+def arg(name, default=None):
+    return sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+
+
+def viewer_frames(frames):
+    cmd = [BIN, "view", SCENE, "--resolution", "640x360", "--threads", "2", "--bench-frames",
+           str(frames)]
+    r = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+    med = statistics.median
+    print(f"\nviewer frames ({frames} views of an orbit, 2 degrees apart; median; CPU: the "
+          "process's user + system seconds over both threads):")
+    print("| frame | wall ms | frames/s (wall) | CPU s | wall ms if CPU / 2 (2 free cores) |")
+    print("|---|---|---|---|---|")
+    for name, key in ((f"preview (1/{r['preview']} resolution, first frame after a move)",
+                       "preview"), ("full resolution (once the view stops)", "full")):
+        ms, cpu = med(r[key + "_ms"]), med(r[key + "_cpu_s"])
+        print(f"| {name} | {ms:.0f} | {1000 / ms:.1f} | {cpu:.3f} | {500 * cpu:.0f} |")
+    print("command: " + " ".join(os.path.relpath(c, ROOT) if c.startswith(ROOT) else c
+                                 for c in cmd))
+
+
+def baseline_frames(baseline, reps, tmp):
+    times = {"baseline": [], "this": []}
+    for rep in range(reps):
+        for name, binary in (("baseline", baseline), ("this", BIN)):
+            _, s = render(VIEWER_FRAME, tmp, "frame-" + name, binary)
+            times[name].append(s["seconds"]["render"])
+    a, b = statistics.median(times["baseline"]), statistics.median(times["this"])
+    print(f"\nthe viewer's frame through `render` (median of {reps}, alternating): baseline "
+          f"{1000 * a:.0f} ms, this {1000 * b:.0f} ms, ratio this / baseline {b / a:.2f}")
+    print("command: " + " ".join(os.path.relpath(c, ROOT) if c.startswith(ROOT) else c
+                                 for c in command(VIEWER_FRAME, "OUT.exr", "STATS.json")))
+
+
 def main():
     global BIN
     if "--bin" in sys.argv:
-        BIN = os.path.abspath(sys.argv[sys.argv.index("--bin") + 1])
-    reps = int(sys.argv[sys.argv.index("--reps") + 1]) if "--reps" in sys.argv else 3
+        BIN = os.path.abspath(arg("--bin"))
+    reps = int(arg("--reps", 3))
     with tempfile.TemporaryDirectory() as tmp:
+        if "--baseline" in sys.argv:
+            baseline_frames(os.path.abspath(arg("--baseline")), reps, tmp)
+        viewer_frames(int(arg("--frames", 5)))
+        if "--only-frames" in sys.argv:
+            return
         ref, ref_stats = render(REFERENCE, tmp, "reference")
         times = {k: [] for k in CONFIGS}
         images = {}
@@ -82,9 +133,12 @@ def main():
             e = relmse(images[name], ref)
             rows[name] = (t, e)
             print(f"| {name} | {1000 * t:.0f} ms | {1 / t:.1f} | {e:.4f} |")
-        a, b = rows["igi 4x4, 256 VPLs, filter 1"], rows["1x1, 16 VPLs (equal time)"]
-        print(f"\nequal time: relMSE ratio (4x4 filtered / 1x1 16 VPLs) = {a[1] / b[1]:.3f} at "
-              f"time ratio {a[0] / b[0]:.2f}")
+        b = rows["1x1, 16 VPLs (equal time)"]
+        for f in ("filter 1", "filter 2"):
+            a = rows["igi 4x4, 256 VPLs, " + f]
+            print(f"\nequal time: relMSE ratio (4x4 {f} / 1x1 16 VPLs) = {a[1] / b[1]:.3f} at "
+                  f"time ratio {a[0] / b[0]:.2f}")
+        a = rows["igi 4x4, 256 VPLs, filter 1"]
         p = rows["igi 4x4, 256 VPLs, filter 1, no packets"]
         print(f"packets of 8: time ratio (single rays / packets) = {p[0] / a[0]:.2f}")
         print("\ncommand (OUT, STATS: any paths): " + " ".join(

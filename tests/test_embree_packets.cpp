@@ -89,3 +89,38 @@ TEST(EmbreePackets, EightRaysAgreeWithSingleRays) {
         },
         [&](const Ray* r, const bool* a, bool* o) { scene.occluded8(r, a, o); });
 }
+
+namespace {
+
+// intersect_emitter (the direct light's BSDF rays): the same hits as intersect, the whole
+// interaction where the surface emits, and a null area light elsewhere.
+TEST(EmbreeEmitterRays, AgreeWithIntersectAndFillOnlyEmitters) {
+    auto scene = make_scene();
+    Rng rng(11);
+    int emitters = 0, others = 0;
+    for (int i = 0; i < 4000; ++i) {
+        Ray ray = random_ray(scene->bounds(), rng);
+        SurfaceInteraction full, only;
+        only.area_light = reinterpret_cast<const Light*>(&full);  // a sentinel to be cleared
+        bool h = scene->intersect(ray, &full);
+        ASSERT_EQ(scene->intersect_emitter(ray, &only), h) << "ray " << i;
+        if (!h) continue;
+        if (!full.area_light) {
+            EXPECT_EQ(only.area_light, nullptr) << "ray " << i;
+            ++others;
+            continue;
+        }
+        ++emitters;
+        EXPECT_EQ(only.area_light, full.area_light);
+        EXPECT_EQ(only.prim_id, full.prim_id);
+        EXPECT_EQ(only.t, full.t);
+        EXPECT_EQ(only.p.x, full.p.x);
+        EXPECT_EQ(only.ng.y, full.ng.y);
+        EXPECT_EQ(only.uv.x, full.uv.x);
+    }
+    // Both kinds met: the box's light and its walls.
+    EXPECT_GT(emitters, 10);
+    EXPECT_GT(others, 1000);
+}
+
+}  // namespace

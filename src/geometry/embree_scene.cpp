@@ -118,6 +118,14 @@ EmbreeScene::~EmbreeScene() {
 }
 
 bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
+    return intersect_as(ray, si, false);
+}
+
+bool EmbreeScene::intersect_emitter(const Ray& ray, SurfaceInteraction* si) const {
+    return intersect_as(ray, si, true);
+}
+
+bool EmbreeScene::intersect_as(const Ray& ray, SurfaceInteraction* si, bool emitters_only) const {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -138,6 +146,10 @@ bool EmbreeScene::intersect(const Ray& ray, SurfaceInteraction* si) const {
     rtcIntersect1(m_impl->scene, &ctx, &rh);
     stats::count_ray();
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (emitters_only && !m_meshes[rh.hit.geomID]->area_light) {
+        si->area_light = nullptr;
+        return true;
+    }
     fill_interaction(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar,
                      Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), si);
     return true;

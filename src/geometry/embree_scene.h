@@ -23,6 +23,10 @@ public:
 
     // Closest hit along the ray within (0, ray.tmax); fills `si` and returns true on a hit.
     bool intersect(const Ray& ray, SurfaceInteraction* si) const;
+    // The same closest hit, with `si` filled only where the surface hit emits (its mesh has an
+    // area light); elsewhere only si->area_light is set (null). For rays that only look for
+    // emitters (BSDF samples of the direct light), which skip the interaction's setup.
+    bool intersect_emitter(const Ray& ray, SurfaceInteraction* si) const;
     // True if anything blocks the ray within (0, tmax).
     bool occluded(const Ray& ray) const;
     // Packets of four or eight rays traced together (coherent rays, such as the neighbouring
@@ -41,6 +45,7 @@ public:
     float motion_time(float time) const;
 
 private:
+    bool intersect_as(const Ray& ray, SurfaceInteraction* si, bool emitters_only) const;
     template <int N, typename RayHitN>
     void intersect_n(const Ray* rays, const bool* active, SurfaceInteraction* si, bool* hit) const;
     template <int N, typename RayN>

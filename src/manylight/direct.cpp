@@ -52,7 +52,8 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
             float p_light = pmf(light->index) * light->pdf_li(ctx, ray.d, p, n, hit.prim_id);
             return Le * power_heuristic(bs->pdf_solid_angle, p_light);
         };
-        if (!scene.intersect(ray, &hit)) {
+        // Only an emitter's hit counts: the others skip the interaction's setup.
+        if (!scene.intersect_emitter(ray, &hit)) {
             for (const Light* light : scene.infinite_lights()) {
                 RGB Le = light->radiance_escaped(ray);
                 if (!Le.is_black()) L += f * weighted(light, Le, Vec3(), Vec3());

@@ -56,6 +56,13 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
 
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
                       const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn) {
+    return render_rows(ctx, units, [&](int y, int x0, int x1, int64_t u0, int64_t u1) {
+        for (int x = x0; x < x1; ++x) fn(Point2i{x, y}, u0, u1);
+    });
+}
+
+int64_t render_rows(const RenderContext& ctx, int64_t units,
+                    const std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>& fn) {
     const int w = ctx.film.width(), h = ctx.film.height();
     // Across ranks each takes the tiles it owns (tile index % ranks == rank): every pixel is
     // rendered by one rank, as by one process, and the films add up exactly.
@@ -88,7 +95,7 @@ int64_t render_pixels(const RenderContext& ctx, int64_t units,
                     cut_short = true;
                     return;
                 }
-                for (int x = x0; x < x1; ++x) fn(Point2i{x, y}, u0, u1);
+                fn(y, x0, x1, u0, u1);
                 if (ctx.progress) {
                     int64_t rows = n * (x1 - x0) / w;
                     report_progress(ctx, double(rows_done.fetch_add(rows) + rows) / total_rows);

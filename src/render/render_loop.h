@@ -67,4 +67,11 @@ void report_progress(const RenderContext& ctx, double work_fraction);
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
                       const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
 
+// The same loop a row of a tile at a time: fn(y, x0, x1, u0, u1) runs units [u0, u1) of the
+// pixels x0 <= x < x1 of row y (at most 8 of them), in an order of its choosing, for integrators
+// that shade neighbouring pixels together (igi: one shadow-ray packet per light for the row).
+// render_pixels is this with the pixels one after the other.
+int64_t render_rows(const RenderContext& ctx, int64_t units,
+                    const std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>& fn);
+
 }  // namespace ml

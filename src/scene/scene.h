@@ -17,6 +17,9 @@ public:
     bool intersect(const Ray& ray, SurfaceInteraction* si) const {
         return m_embree->intersect(ray, si);
     }
+    bool intersect_emitter(const Ray& ray, SurfaceInteraction* si) const {
+        return m_embree->intersect_emitter(ray, si);
+    }
     bool occluded(const Ray& ray) const { return m_embree->occluded(ray); }
     // Packets of four or eight rays (EmbreeScene::intersect4 and the others).
     void intersect4(const Ray rays[4], const bool active[4], SurfaceInteraction si[4],

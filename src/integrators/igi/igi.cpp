@@ -104,6 +104,91 @@ RGB IgiIntegrator::shade(const Scene& scene, const GatherPoint& g,
     return L * scale;
 }
 
+void IgiIntegrator::gather_row(const RenderContext& ctx, const InterleavedLayout& layout, int y,
+                               int x0, int x1, int s, RowState& rs,
+                               std::vector<GBufferTexel>& gbuffer) const {
+    const Scene& scene = ctx.scene;
+    Sampler& sampler = *rs.sampler;
+    const int w = ctx.film.width();
+    rs.points.clear();
+    rs.pixels.clear();
+    for (int x = x0; x < x1; ++x) {
+        const Point2i pixel = layout.to_image({x, y});
+        const int sub = layout.sub_buffer(pixel);
+        const size_t index = size_t(pixel.y) * w + pixel.x;
+        sampler.start_pixel_sample(pixel, s);
+        RowPixel rp;
+        rp.index = index;
+        rp.first = rs.points.size();
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &rp.weight);
+        bool first = s == 0;
+        rp.direct = gather_along(
+            scene, ray, sampler, rs.scratch, m_many.max_depth, [&](const GatherPoint& g, float) {
+                if (first) {
+                    gbuffer[index] = {g.si.p, g.si.ns, length(g.si.p - ray.o), true};
+                    first = false;
+                }
+                RowPoint pt{g, sub, RGB(), RGB()};
+                RGB L = m_direct.estimate(scene, g, sampler);
+                if (m_igi.filter_direct) {
+                    pt.direct = L;
+                    L = RGB();
+                }
+                L += shade(scene, g, m_emitters, 1.f);
+                rs.points.push_back(pt);
+                return L;
+            });
+        rp.last = rs.points.size();
+        rs.pixels.push_back(rp);
+    }
+}
+
+void IgiIntegrator::shade_row_vpls(const Scene& scene, RowState& rs) const {
+    // The subsets the row's points belong to: one, or more at a seam of the split buffer.
+    rs.subs.clear();
+    for (const RowPoint& pt : rs.points)
+        if (std::find(rs.subs.begin(), rs.subs.end(), pt.sub) == rs.subs.end())
+            rs.subs.push_back(pt.sub);
+    Ray rays[8];
+    RGB values[8];
+    size_t owner[8];
+    bool active[8] = {}, occluded[8];
+    int count = 0;
+    auto flush = [&] {
+        for (int k = count; k < 8; ++k) active[k] = false;
+        scene.occluded8(rays, active, occluded);
+        for (int k = 0; k < count; ++k)
+            if (!occluded[k]) rs.points[owner[k]].vpls += values[k];
+        count = 0;
+    };
+    for (int sub : rs.subs) {
+        for (uint32_t i : m_subsets[sub]) {
+            const PointLight& pl = m_set.lights[i];
+            for (size_t p = 0; p < rs.points.size(); ++p) {
+                RowPoint& pt = rs.points[p];
+                if (pt.sub != sub) continue;
+                RGB c;
+                Ray shadow;
+                if (!point_light_contribution(m_set, pl, pt.g, &c, &shadow)) continue;
+                c = m_many.clamped(c, pl.is_vpl);
+                if (!m_igi.packets) {
+                    if (!scene.occluded(shadow)) pt.vpls += c;
+                    continue;
+                }
+                rays[count] = shadow;
+                values[count] = c;
+                owner[count] = p;
+                active[count] = true;
+                if (++count == 8) flush();
+            }
+            // One packet per VPL: the next VPL's rays end elsewhere.
+            if (count > 0) flush();
+        }
+        for (RowPoint& pt : rs.points)
+            if (pt.sub == sub) pt.vpls = pt.vpls * m_scales[sub];
+    }
+}
+
 RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     const Scene& scene = ctx.scene;
     m_many.use_render_seed(ctx.seed);
@@ -127,57 +212,55 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     for (int s = 0; s < k; ++s)
         if (!m_subsets[s].empty()) m_scales[s] = float(vpls) / float(m_subsets[s].size());
 
-    // Creation and shading: the render loop walks the split buffer, whose tiles lie in one
-    // sub-buffer each (but at its seams), so a tile is shaded by one subset of the VPLs. The
-    // first gather point of each pixel's first sample is its G-buffer texel.
+    // Creation and shading: the render loop walks the split buffer a row of a tile at a time
+    // (up to 8 pixels of one sub-buffer, but at its seams). For each sample the row's camera
+    // paths gather first (G-buffer, direct light, the emitters' lights); then each VPL of the
+    // row's subset shades all the row's gather points, its shadow rays one coherent packet (close
+    // origins, one end point). Per gather point the VPLs still add up in the subset's order, so
+    // the image is the one pixel-by-pixel shading gives. The first gather point of each pixel's
+    // first sample is its G-buffer texel.
     auto t_shade = std::chrono::steady_clock::now();
     std::vector<Pixel> pixels(size_t(w) * h);
     std::vector<GBufferTexel> gbuffer(pixels.size());
-    struct ThreadState {
-        std::unique_ptr<Sampler> sampler;
-        ScratchBuffer scratch;
-    };
-    ThreadLocal<ThreadState> states([&] {
-        return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
+    ThreadLocal<RowState> states([&] {
+        RowState rs;
+        rs.sampler = ctx.sampler.clone();
+        return rs;
     });
     RenderResult result;
-    result.spp = int(render_pixels(ctx, ctx.spp, [&](Point2i split, int64_t s0, int64_t s1) {
-        ThreadState& ts = states.local();
-        Sampler& sampler = *ts.sampler;
-        const Point2i pixel = layout.to_image(split);
-        const int sub = layout.sub_buffer(pixel);
-        const size_t index = size_t(pixel.y) * w + pixel.x;
-        Pixel& px = pixels[index];
+    result.spp = int(render_rows(ctx, ctx.spp, [&](int y, int x0, int x1, int64_t s0, int64_t s1) {
+        RowState& rs = states.local();
+        auto t0 = std::chrono::steady_clock::now();
         for (int64_t s = s0; s < s1; ++s) {
-            sampler.start_pixel_sample(pixel, int(s));
-            float weight;
-            Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
-            RGB indirect;
-            bool first = s == 0;
-            RGB direct = gather_along(
-                scene, ray, sampler, ts.scratch, m_many.max_depth,
-                [&](const GatherPoint& g, float) {
-                    if (first) {
-                        gbuffer[index] = {g.si.p, g.si.ns, length(g.si.p - ray.o), true};
-                        first = false;
-                    }
-                    RGB L = m_direct.estimate(scene, g, sampler);
-                    if (m_igi.filter_direct) {
-                        indirect += L;
-                        L = RGB();
-                    }
-                    L += shade(scene, g, m_emitters, 1.f);
-                    indirect += shade(scene, g, m_subsets[sub], m_scales[sub]);
-                    return L;
-                });
-            if (direct.is_finite() && indirect.is_finite()) {
-                px.direct += direct * weight;
-                px.indirect += indirect * weight;
-                px.weight += weight;
+            gather_row(ctx, layout, y, x0, x1, int(s), rs, gbuffer);
+            auto t1 = std::chrono::steady_clock::now();
+            shade_row_vpls(scene, rs);
+            // Per pixel, its gather points in path order, as one pixel's shading adds them.
+            for (const RowPixel& rp : rs.pixels) {
+                RGB indirect;
+                for (size_t i = rp.first; i < rp.last; ++i) {
+                    if (m_igi.filter_direct) indirect += rs.points[i].direct;
+                    indirect += rs.points[i].vpls;
+                }
+                if (rp.direct.is_finite() && indirect.is_finite()) {
+                    Pixel& px = pixels[rp.index];
+                    px.direct += rp.direct * rp.weight;
+                    px.indirect += indirect * rp.weight;
+                    px.weight += rp.weight;
+                }
             }
-            ts.scratch.reset();
+            rs.scratch.reset();
+            auto t2 = std::chrono::steady_clock::now();
+            rs.seconds_gather += std::chrono::duration<double>(t1 - t0).count();
+            rs.seconds_vpls += std::chrono::duration<double>(t2 - t1).count();
+            t0 = t2;
         }
     }));
+    double gather_seconds = 0, vpl_seconds = 0;
+    for (const RowState& rs : states) {
+        gather_seconds += rs.seconds_gather;
+        vpl_seconds += rs.seconds_vpls;
+    }
     double shade_seconds = seconds_since(t_shade);
 
     // Across ranks each shaded the pixels of its tiles; the filter needs their neighbours, so
@@ -233,6 +316,10 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     figures["interleave"] = fmt::format("{}x{}", m_igi.n, m_igi.m);
     figures["filter"] = m_igi.filter;
     figures["seconds_shade"] = shade_seconds;
+    // Summed over the threads (CPU seconds, not wall): the camera paths with their G-buffer,
+    // direct light and emitters, and the VPLs with their shadow rays.
+    figures["thread_seconds_gather"] = gather_seconds;
+    figures["thread_seconds_vpls"] = vpl_seconds;
     figures["seconds_filter"] = filter_seconds;
     result.stats["igi"] = figures;
     return result;

@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "core/scratch.h"
 #include "integrators/igi/interleave.h"
+#include "manylight/gather.h"
 #include "manylight/many_lights.h"
 #include "render/integrator.h"
 #include "render/settings.h"
@@ -24,7 +26,8 @@ struct IgiSettings {
     // (filter m) pixels, so each VPL subset counts once per pattern (0: no filter).
     int filter = 1;
     DiscontinuityThresholds thresholds;
-    bool packets = true;  // igi.packets: shadow rays in Embree packets of eight
+    // igi.packets: shadow rays in Embree packets of eight, one VPL's rays to a row's points
+    bool packets = true;
     // igi.filter_direct: the sampled direct light (lights.direct=sample) goes through the
     // filter with the VPLs' light (the viewer's moving frames: one noisy sample per pixel).
     bool filter_direct = false;
@@ -39,6 +42,37 @@ public:
 
 private:
     struct Pixel;
+    // A gather point of a row's camera paths, the subset that shades it, and what it gathered:
+    // the sampled direct light when it is filtered (igi.filter_direct) and the VPLs' light.
+    struct RowPoint {
+        GatherPoint g;
+        int sub = 0;
+        RGB direct, vpls;
+    };
+    // A pixel of the row for one sample: its gather points [first, last) and the light that is
+    // not filtered (emission, direct light, the emitters' point lights).
+    struct RowPixel {
+        size_t index = 0, first = 0, last = 0;
+        RGB direct;
+        float weight = 0;
+    };
+    // Per thread: the sampler, the BSDFs of a row's gather points (reset after each sample), the
+    // row's points and pixels, and the seconds of each phase (--stats).
+    struct RowState {
+        std::unique_ptr<Sampler> sampler;
+        ScratchBuffer scratch;
+        std::vector<RowPoint> points;
+        std::vector<RowPixel> pixels;
+        std::vector<int> subs;
+        double seconds_gather = 0, seconds_vpls = 0;
+    };
+    // Sample s of the pixels x0 <= x < x1 of row y of the split buffer: the camera paths, their
+    // gather points into rs (and the G-buffer texel of each pixel's first sample).
+    void gather_row(const RenderContext& ctx, const InterleavedLayout& layout, int y, int x0,
+                    int x1, int s, RowState& rs, std::vector<GBufferTexel>& gbuffer) const;
+    // The VPLs of their subsets at the row's gather points: light by light, each light's shadow
+    // rays to the row's points in packets of eight (igi.packets), times the subset's scale.
+    void shade_row_vpls(const Scene& scene, RowState& rs) const;
     // What the lights of `indices` give at g, each through a shadow ray, times `scale`.
     RGB shade(const Scene& scene, const GatherPoint& g, const std::vector<uint32_t>& indices,
               float scale) const;
