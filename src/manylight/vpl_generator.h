@@ -24,6 +24,7 @@ struct VplSamplerOptions {
     int pilot_paths = 1024;  // power: light paths of the pilot pass
     int candidates = 4;      // bidirectional: candidates per VPL kept by resampling
     int tries = 1;           // metropolis: proposals per step (1: plain Metropolis-Hastings)
+    int mir_pilot = 4096;    // metropolis: camera points that measure each VPL's power
 };
 
 struct VplOptions {
