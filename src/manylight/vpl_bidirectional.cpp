@@ -15,6 +15,9 @@
 //      path of the candidate's own, traced at its time, and one of its vertices chosen
 //      uniformly). The flux arriving at x2 divided by p(x2) is the candidate's flux; its depth
 //      (vertices from the light) is one more than the vertex's.
+//      How many candidates: enough that vpl.candidates of them per VPL bring light, on average
+//      (a connection that fails costs two rays; the density, the costly part, is only computed
+//      for those that succeed), from the share a first, dropped wave of them finds.
 //   4. Resampling: `count` VPLs from the candidates in proportion to the square root of their
 //      flux's luminance (systematic resampling; a kept candidate's flux is divided by its
 //      expected number of draws, so any positive weight keeps the estimate unbiased). The
@@ -43,6 +46,8 @@ namespace {
 
 constexpr float kDirectShare = 0.5f;  // connections to a point on a light (else a pool vertex)
 constexpr size_t kChunk = 256;        // candidates per task
+// Most candidates traced per VPL kept, where few bring light (step 2a).
+constexpr double kMaxCandidatesPerVpl = 256;
 
 struct Candidate {
     SurfaceInteraction si;  // wo: towards where the light arrives from
@@ -104,8 +109,6 @@ public:
         Bsdf bsdf = si.material->get_bsdf(si, cs.bsdfs);
         if (!bsdf || !bsdf.has_nonspecular()) return;
         if (m_options.glossy == GlossyVpls::Skip && (bsdf.flags() & kBxdfGlossy)) return;
-        float p_area = area_density(si);
-        if (!(p_area > 0)) return;
 
         bool paths = m_options.max_depth >= 2 && (moves || !m_pool.lights.empty());
         bool direct = !paths || us < kDirectShare;
@@ -148,6 +151,11 @@ public:
             E = I * (abs_dot(si.ng, wi) * float(V) / d2);
             depth = pl.depth > 0 ? uint8_t(std::min(255, int(pl.depth) + 1)) : 0;
         }
+        if (E.is_black()) return;
+        // The density last: it costs a shadow ray per pilot point, and most connections of a
+        // scene lit through a gap (veach-ajar) fail.
+        float p_area = area_density(si);
+        if (!(p_area > 0)) return;
         RGB flux = E / (p_area * p_strategy);
         if (!flux.is_finite() || flux.is_black()) return;
         si.wo = wi;
@@ -208,20 +216,34 @@ void sample_bidirectional_vpls(const Scene& scene, const PerspectiveCamera& came
     if (options.count <= 0 || options.max_depth <= 0 || scene.lights().empty()) return;
     BidirectionalSampler bidir(scene, camera, options);
     const size_t N = size_t(options.count);
-    const size_t M = N * size_t(std::max(1, options.sampler.candidates));
+    auto trace = [&](std::vector<Candidate>& cands, uint64_t seed) {
+        size_t M = cands.size();
+        parallel_for_chunks(
+            size_t(0), (M + kChunk - 1) / kChunk, size_t(1), [&](size_t b, size_t e) {
+                auto sampler = create_sampler("independent", 1, seed);
+                CandidateScratch scratch;
+                for (size_t k = b; k < e; ++k)
+                    for (size_t i = k * kChunk; i < std::min(M, (k + 1) * kChunk); ++i) {
+                        bidir.candidate(i, *sampler, scratch, &cands[i]);
+                        scratch.bsdfs.reset();
+                    }
+            });
+    };
+
+    // Step 2a: the share of candidates that bring light, from a first wave of N that is then
+    // dropped (so that how many are traced does not depend on those kept: no bias), sets their
+    // number: vpl.candidates that bring light per VPL, on average.
+    std::vector<Candidate> cands(N);
+    trace(cands, hash_ints(options.seed, 0x72617465ULL));
+    size_t lit = size_t(
+        std::count_if(cands.begin(), cands.end(), [](const Candidate& c) { return c.weight > 0; }));
+    const double per_vpl = double(std::max(1, options.sampler.candidates));
+    double share = std::max(double(lit) / double(N), per_vpl / kMaxCandidatesPerVpl);
+    const size_t M = std::max(N, size_t(std::ceil(double(N) * per_vpl / share)));
 
     // Steps 2 and 3: the candidates, each from a sample stream of its own.
-    std::vector<Candidate> cands(M);
-    auto seed = hash_ints(options.seed, 0x63616e64ULL);
-    parallel_for_chunks(size_t(0), (M + kChunk - 1) / kChunk, size_t(1), [&](size_t b, size_t e) {
-        auto sampler = create_sampler("independent", 1, seed);
-        CandidateScratch scratch;
-        for (size_t k = b; k < e; ++k)
-            for (size_t i = k * kChunk; i < std::min(M, (k + 1) * kChunk); ++i) {
-                bidir.candidate(i, *sampler, scratch, &cands[i]);
-                scratch.bsdfs.reset();
-            }
-    });
+    cands.assign(M, Candidate());
+    trace(cands, hash_ints(options.seed, 0x63616e64ULL));
 
     // Step 4: systematic resampling of N from the candidates by weight.
     double W = 0;
