@@ -9,12 +9,12 @@ Each sampler at --counts VPLs through `vpl` (4 spp) and `mdlightcuts` (4 spp, on
 seeds 1 and 2, relMSE averaged; with it, from `vpl`'s --stats, the VPL point lights (distinct
 VPLs: bidirectional merges a candidate drawn k times into one) and the share of them that light
 some gather point. Then equal time: `vpl` with 1024 VPLs under --time-limit EQUAL_TIME seconds.
-Every cell once with the defaults (vpl.clamp=0.2) and, with --clamp0, once more with
+Every cell with the defaults (vpl.clamp=0.2) or, with --clamps=default,0, also with
 vpl.clamp=0 (no clamping bias).
 
 Usage: bench/vpl_samplers.py [--scenes=veach-ajar,...] [--counts=256,1024,4096]
   [--samplers=standard,power,bidirectional,metropolis,metropolis:4] [--integrators=vpl,mdlightcuts]
-  [--ref-spp=4096] [--clamp0] [--equal-only] [--seeds=1,2]
+  [--ref-spp=4096] [--clamps=default,0] [--equal-only] [--seeds=1,2]
 (prints markdown tables; metropolis:K sets vpl.metropolis.tries=K)
 """
 import json
@@ -43,7 +43,7 @@ COUNTS = [int(c) for c in arg("counts", "256,1024,4096").split(",") if c]
 INTEGRATORS = arg("integrators", "vpl,mdlightcuts").split(",")
 SEEDS = [int(s) for s in arg("seeds", "1,2").split(",")]
 REF_SPP = int(arg("ref-spp", "4096"))
-CLAMPS = [None, "0"] if "--clamp0" in sys.argv else [None]
+CLAMPS = [None if c == "default" else c for c in arg("clamps", "default").split(",")]
 EQUAL_ONLY = "--equal-only" in sys.argv
 
 
