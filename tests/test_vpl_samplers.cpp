@@ -92,6 +92,15 @@ TEST(VplSamplers, NamesAndSettings) {
     opt = vpl_options("bidirectional", 1, 16);
     opt.set["vpl.candidates"] = "0";
     EXPECT_THROW(render_text(box, opt), UsageError);
+    // MIR's pilot is its own setting: vpl.pilot is another sampler's.
+    opt = vpl_options("metropolis", 1, 16);
+    opt.set["vpl.pilot"] = "64";
+    EXPECT_THROW(render_text(box, opt), UsageError);
+    opt = vpl_options("metropolis", 1, 16);
+    opt.set["vpl.metropolis.pilot"] = "0";
+    EXPECT_THROW(render_text(box, opt), UsageError);
+    opt.set["vpl.metropolis.pilot"] = "64";
+    EXPECT_NO_THROW(render_text(box, opt));
 }
 
 // Behind the interface, `standard` is generate_vpls itself: the same lights, bit for bit.
