@@ -49,11 +49,14 @@ void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
         o->pilot_paths = s.get_int("vpl.pilot_paths", o->pilot_paths);
     if (o->kind == VplSamplerKind::Bidirectional)
         o->candidates = s.get_int("vpl.candidates", o->candidates);
-    if (o->kind == VplSamplerKind::Metropolis)
+    if (o->kind == VplSamplerKind::Metropolis) {
         o->tries = s.get_int("vpl.metropolis.tries", o->tries);
-    if (o->pilot < 1 || o->pilot_paths < 1 || o->candidates < 1 || o->tries < 1)
+        o->mir_pilot = s.get_int("vpl.metropolis.pilot", o->mir_pilot);
+    }
+    if (o->pilot < 1 || o->pilot_paths < 1 || o->candidates < 1 || o->tries < 1 || o->mir_pilot < 1)
         throw UsageError(
-            "vpl.pilot, vpl.pilot_paths, vpl.candidates and vpl.metropolis.tries must be >= 1");
+            "vpl.pilot, vpl.pilot_paths, vpl.candidates, vpl.metropolis.tries and "
+            "vpl.metropolis.pilot must be >= 1");
 }
 
 ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& defaults) {

@@ -128,10 +128,13 @@ void VplTracer::trace_chunk(size_t chunk_index, size_t chunk_paths, VplChunk& ch
 }
 
 // The path's VPLs into chunk; returns the index of the light it started from (-1: none).
-int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk) const {
+int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk,
+                          const float* given_time) const {
     // Step 0: in a scene that moves, the path's time, uniform over the shutter (drawn only
-    // there, so that static scenes keep their VPLs). Every ray of the path is traced at it.
-    float time = m_scene.moves() ? m_scene.time_at(sampler.get_1d()) : 0.f;
+    // there, so that static scenes keep their VPLs) unless the caller gives it. Every ray of the
+    // path is traced at it.
+    float time = 0.f;
+    if (m_scene.moves()) time = given_time ? *given_time : m_scene.time_at(sampler.get_1d());
     // Step 1: a light by power (or by options.light_pmf), a ray leaving it; beta is the flux
     // the path carries.
     float u_light = sampler.get_1d();

@@ -24,6 +24,7 @@ struct VplSamplerOptions {
     int pilot_paths = 1024;  // power: light paths of the pilot pass
     int candidates = 4;      // bidirectional: candidates per VPL kept by resampling
     int tries = 1;           // metropolis: proposals per step (1: plain Metropolis-Hastings)
+    int mir_pilot = 4096;    // metropolis: camera points that measure each VPL's power
 };
 
 struct VplOptions {
@@ -69,8 +70,10 @@ public:
     // independent sampler of options.seed.
     void trace_chunk(size_t chunk_index, size_t chunk_paths, VplChunk& chunk) const;
     // One path's VPLs into chunk, its numbers from `sampler`; returns the index of the light it
-    // started from (-1: none).
-    int trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk) const;
+    // started from (-1: none). In a scene that moves, the path is traced at `time` when given
+    // (a sampler that drew the time of the path's other part), else at a time it draws.
+    int trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& chunk,
+                   const float* time = nullptr) const;
 
 private:
     const Scene& m_scene;

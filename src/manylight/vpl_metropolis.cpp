@@ -17,8 +17,11 @@
 //   4. Normalisation: P_c, the power the VPLs bring to the camera (here the image mean of f's
 //      light), is estimated by the mean of f over independent paths (the chain's bootstrap: the
 //      same integral the chain samples); geometric VPL i must bring P_i = k_i P_c / n (n: the
-//      steps). Its power at the light path's flux, P'_i, is measured on the pilot points (a
-//      unit-power render over a sample of the image); its flux is scaled by P_i / P'_i.
+//      steps). Its power at the light path's flux, P'_i, is measured on vpl.metropolis.pilot
+//      (4096) camera points stratified over the film (a unit-power render over a sample of the
+//      image, where the seed renders the whole image: 256 points left a VPL that lights a small
+//      part of the image with a noisy, sometimes tiny P'_i and so a huge scale); its flux is
+//      scaled by P_i / P'_i.
 #include <algorithm>
 #include <cmath>
 
@@ -263,7 +266,7 @@ void sample_metropolis_vpls(const Scene& scene, const PerspectiveCamera& camera,
     }
 
     // Normalisation: P_i = k_i P_c / n against P'_i measured on the pilot points.
-    PilotPoints pilot = camera_pilot_points(scene, camera, options.sampler.pilot, 8,
+    PilotPoints pilot = camera_pilot_points(scene, camera, options.sampler.mir_pilot, 8,
                                             hash_ints(options.seed, 0x6d69722dULL));
     PointLightSet view;
     view.surfaces = out.surfaces;
@@ -277,7 +280,7 @@ void sample_metropolis_vpls(const Scene& scene, const PerspectiveCamera& camera,
                 if (!scene.occluded(shadow)) measured[i] += double(c.luminance());
             }
     });
-    double pilot_count = double(std::max(1, options.sampler.pilot));
+    double pilot_count = double(std::max(1, options.sampler.mir_pilot));
     VplChunk kept;
     kept.arena = std::move(out.arena);
     double total = 0;

@@ -3,6 +3,7 @@
 #include "camera/camera.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "sampling/warps.h"
 #include "scene/scene.h"
 
 namespace ml {
@@ -52,10 +53,14 @@ PilotPoints camera_pilot_points(const Scene& scene, const PerspectiveCamera& cam
     PilotPoints pilot;
     pilot.arena = std::make_unique<ScratchBuffer>(size_t(std::max(count, 1)) * 1024 + 65536);
     auto sampler = create_sampler("independent", 1, hash_ints(seed, 0x70696c6f74ULL));
+    // Film positions stratified (a Hammersley set under a random shift): the points spread over
+    // the image as a render's pixels do.
+    sampler->start_pixel_sample({0, 1}, 0);
+    Vec2 shift = sampler->get_2d();
     for (int i = 0; i < count; ++i) {
         sampler->start_pixel_sample({i, 0}, 0);
         CameraSample cs;
-        Vec2 u = sampler->get_2d();
+        Vec2 u = shifted_hammersley(uint32_t(i), uint32_t(count), shift);
         cs.p_film = Vec2(u.x * float(camera.width()), u.y * float(camera.height()));
         cs.p_lens = sampler->get_2d();
         cs.time = sampler->get_1d();

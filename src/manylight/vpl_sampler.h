@@ -51,9 +51,9 @@ void sample_metropolis_vpls(const Scene& scene, const PerspectiveCamera& camera,
                             const VplOptions& options, PointLightSet& set,
                             MirTrace* trace = nullptr);
 
-// Points the camera sees (the first non-delta hit of camera rays through uniform random film
-// positions, along delta chains as the gatherers follow them), for the pilot passes. Their BSDFs
-// live in `arena`.
+// Points the camera sees (the first non-delta hit of camera rays through film positions
+// stratified over the image, along delta chains as the gatherers follow them), for the pilot
+// passes. Their BSDFs live in `arena`.
 struct PilotPoints {
     std::vector<GatherPoint> points;
     std::unique_ptr<ScratchBuffer> arena;

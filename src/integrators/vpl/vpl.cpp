@@ -9,26 +9,43 @@ VplIntegrator::VplIntegrator(const Settings& settings)
 
 void VplIntegrator::prepare(const Scene& scene) {
     build_many_lights(scene, m_settings, &m_set, &m_direct);
+    m_lit = std::make_unique<std::atomic<uint8_t>[]>(m_set.lights.size());
+    for (size_t i = 0; i < m_set.lights.size(); ++i) m_lit[i].store(0, std::memory_order_relaxed);
 }
 
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_lit.reset();
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
+    size_t vpl_lights = 0, lighting = 0;
+    for (size_t i = 0; i < m_set.lights.size(); ++i)
+        if (m_set.lights[i].is_vpl) {
+            ++vpl_lights;
+            if (m_lit && m_lit[i].load(std::memory_order_relaxed)) ++lighting;
+        }
+    r.stats["vpl"] = {{"vpl_lights", vpl_lights}, {"lighting", lighting}};
     return r;
 }
 
 RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
                       Point2i pixel) const {
-    return gather_along(scene, ray, sampler, scratch, m_settings.max_depth,
-                        [&](const GatherPoint& g, float) {
-                            RGB L = m_direct.estimate(scene, g, sampler);
-                            for (const PointLight& pl : m_set.lights)
-                                L += visible_point_light(scene, m_set, m_settings, pl, g);
-                            return L;
-                        });
+    return gather_along(
+        scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float) {
+            RGB L = m_direct.estimate(scene, g, sampler);
+            for (size_t i = 0; i < m_set.lights.size(); ++i) {
+                RGB c = visible_point_light(scene, m_set, m_settings, m_set.lights[i], g);
+                if (c.is_black()) continue;
+                L += c;
+                // (A load first: most lights are marked early, and a load
+                // shares the cache line where a store would not.)
+                std::atomic<uint8_t>& lit = m_lit[i];
+                if (!lit.load(std::memory_order_relaxed)) lit.store(1, std::memory_order_relaxed);
+            }
+            return L;
+        });
 }
 
 }  // namespace ml

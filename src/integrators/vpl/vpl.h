@@ -1,8 +1,12 @@
 // Instant radiosity, brute force: every point light (the scene's lights turned into point lights,
 // plus the VPLs that light paths deposit) shades every gather point with a shadow ray each. It is
 // O(lights) per pixel: the exact reference Lightcuts is measured against on the same set.
+// --stats gains "vpl": {"vpl_lights": the VPLs (point lights), "lighting": those of them that
+// lit some gather point of the render}.
 #pragma once
 
+#include <atomic>
+#include <memory>
 #include <string>
 
 #include "manylight/many_lights.h"
@@ -24,6 +28,9 @@ private:
     ManyLightSettings m_settings;
     PointLightSet m_set;
     SampledDirectLight m_direct;
+    // Per point light: whether it lit some gather point of the render (unoccluded contribution
+    // > 0), for --stats' vpl.lighting: the share of the VPLs that light the image.
+    mutable std::unique_ptr<std::atomic<uint8_t>[]> m_lit;
 };
 
 }  // namespace ml
