@@ -22,6 +22,36 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Up to eight shadow rays traced as one Embree packet; each unoccluded ray adds its value to its
+// target, in the order the rays were added. Full batches go at once; the caller flushes where
+// its rays stop being coherent.
+class ShadowPacket {
+public:
+    explicit ShadowPacket(const Scene& scene) : m_scene(scene) {}
+    void add(const Ray& ray, const RGB& value, RGB* target) {
+        m_rays[m_count] = ray;
+        m_values[m_count] = value;
+        m_targets[m_count] = target;
+        if (++m_count == 8) flush();
+    }
+    void flush() {
+        if (m_count == 0) return;
+        bool active[8] = {}, occluded[8];
+        for (int k = 0; k < m_count; ++k) active[k] = true;
+        m_scene.occluded8(m_rays, active, occluded);
+        for (int k = 0; k < m_count; ++k)
+            if (!occluded[k]) *m_targets[k] += m_values[k];
+        m_count = 0;
+    }
+
+private:
+    const Scene& m_scene;
+    Ray m_rays[8];
+    RGB m_values[8];
+    RGB* m_targets[8] = {};
+    int m_count = 0;
+};
+
 }  // namespace
 
 IgiSettings IgiSettings::read(const Settings& s) {
@@ -82,25 +112,15 @@ RGB IgiIntegrator::shade(const Scene& scene, const GatherPoint& g,
         return L * scale;
     }
     // Eight shadow rays from one gather point at a time: coherent origins, one Embree packet.
-    Ray rays[8];
-    RGB values[8];
-    bool active[8] = {}, occluded[8];
-    int count = 0;
-    auto flush = [&] {
-        for (int k = count; k < 8; ++k) active[k] = false;
-        scene.occluded8(rays, active, occluded);
-        for (int k = 0; k < count; ++k)
-            if (!occluded[k]) L += values[k];
-        count = 0;
-    };
+    ShadowPacket packet(scene);
     for (uint32_t i : indices) {
         const PointLight& pl = m_set.lights[i];
-        if (!point_light_contribution(m_set, pl, g, &values[count], &rays[count])) continue;
-        values[count] = m_many.clamped(values[count], pl.is_vpl);
-        active[count] = true;
-        if (++count == 8) flush();
+        RGB c;
+        Ray shadow;
+        if (!point_light_contribution(m_set, pl, g, &c, &shadow)) continue;
+        packet.add(shadow, m_many.clamped(c, pl.is_vpl), &L);
     }
-    if (count > 0) flush();
+    packet.flush();
     return L * scale;
 }
 
@@ -149,23 +169,11 @@ void IgiIntegrator::shade_row_vpls(const Scene& scene, RowState& rs) const {
     for (const RowPoint& pt : rs.points)
         if (std::find(rs.subs.begin(), rs.subs.end(), pt.sub) == rs.subs.end())
             rs.subs.push_back(pt.sub);
-    Ray rays[8];
-    RGB values[8];
-    size_t owner[8];
-    bool active[8] = {}, occluded[8];
-    int count = 0;
-    auto flush = [&] {
-        for (int k = count; k < 8; ++k) active[k] = false;
-        scene.occluded8(rays, active, occluded);
-        for (int k = 0; k < count; ++k)
-            if (!occluded[k]) rs.points[owner[k]].vpls += values[k];
-        count = 0;
-    };
+    ShadowPacket packet(scene);
     for (int sub : rs.subs) {
         for (uint32_t i : m_subsets[sub]) {
             const PointLight& pl = m_set.lights[i];
-            for (size_t p = 0; p < rs.points.size(); ++p) {
-                RowPoint& pt = rs.points[p];
+            for (RowPoint& pt : rs.points) {
                 if (pt.sub != sub) continue;
                 RGB c;
                 Ray shadow;
@@ -175,14 +183,10 @@ void IgiIntegrator::shade_row_vpls(const Scene& scene, RowState& rs) const {
                     if (!scene.occluded(shadow)) pt.vpls += c;
                     continue;
                 }
-                rays[count] = shadow;
-                values[count] = c;
-                owner[count] = p;
-                active[count] = true;
-                if (++count == 8) flush();
+                packet.add(shadow, c, &pt.vpls);
             }
             // One packet per VPL: the next VPL's rays end elsewhere.
-            if (count > 0) flush();
+            packet.flush();
         }
         for (RowPoint& pt : rs.points)
             if (pt.sub == sub) pt.vpls = pt.vpls * m_scales[sub];
