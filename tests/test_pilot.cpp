@@ -1,9 +1,12 @@
 // The pilot of the cuts' error floor (manylight/pilot.h): a grid of about kPilotPixels pixels,
-// evenly over the film, whose mean it returns the same way whatever the schedule.
+// evenly over the film, whose mean it returns the same way whatever the schedule; and the cut cap
+// that a time-limited pass plans from a timing probe.
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "manylight/pilot.h"
 
@@ -35,6 +38,67 @@ TEST(Pilot, NegativeAndNonFiniteValuesCountAsZero) {
     });
     EXPECT_DOUBLE_EQ(mean, 1.0);  // half the pixels at 2
     EXPECT_EQ(pilot_mean_luminance(0, 10, [](Point2i) { return RGB(1.f); }), 0.0);
+}
+
+// choose_cut_cap under a linear time model, every expected cap worked out by hand: a pixel costs
+// 1 ms per pair (0 fixed), the film has 1000 pixels.
+TEST(CutCap, LargestCapThatFitsTheTime) {
+    CutProbe probe;
+    probe.low_seconds = 64e-3;  // cap 64: 64 pairs at every pixel
+    probe.low_mean_size = 64;
+    probe.full_sizes = {100, 900, 100, 900};  // mean 500 at max_cut 1000
+    probe.full_seconds = 500e-3;
+    // Whole cuts take 1000 * 0.5 = 500 s: a 1000 s budget keeps max_cut.
+    CutCapPlan plan = choose_cut_cap(probe, 1000, 64, 1000, 1000);
+    EXPECT_EQ(plan.cap, 1000);
+    EXPECT_NEAR(plan.full_seconds, 500, 1e-9);
+    EXPECT_NEAR(plan.mean_full_size, 500, 1e-9);
+    // 300.25 s: a mean of 300 pairs, (min(100, c) + min(900, c)) / 2 = 300 at c = 500.
+    plan = choose_cut_cap(probe, 1000, 64, 1000, 300.25);
+    EXPECT_EQ(plan.cap, 500);
+    EXPECT_NEAR(plan.capped_seconds, 300, 1e-6);
+    // 100 s: a mean of 100 pairs, (100 + 100) / 2 at c = 100.
+    plan = choose_cut_cap(probe, 1000, 64, 1000, 100);
+    EXPECT_EQ(plan.cap, 100);
+    // 50 s: nothing fits; the least cap.
+    EXPECT_EQ(choose_cut_cap(probe, 1000, 64, 1000, 50).cap, 64);
+}
+
+TEST(CutCap, AFixedCostPerPixelCounts) {
+    // Per pixel 10 ms fixed plus 1 ms per pair: cap 64 costs 74 ms, whole cuts (400) 410 ms.
+    CutProbe probe;
+    probe.low_seconds = 74e-3;
+    probe.low_mean_size = 64;
+    probe.full_sizes = {400, 400};
+    probe.full_seconds = 410e-3;
+    // 100 pixels in 20.05 s: 200.5 ms a pixel, 190.5 pairs.
+    EXPECT_EQ(choose_cut_cap(probe, 100, 64, 1000, 20.05).cap, 190);
+    // Without a figure (the probe ran out of time), the least cap.
+    probe.full_seconds = -1;
+    EXPECT_EQ(choose_cut_cap(probe, 100, 64, 1000, 1e9).cap, 64);
+}
+
+TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
+    std::atomic<int> low{0}, full{0};
+    CutCapPlan plan = cut_cap_for_time(320, 180, 64, 1000, 1e6, [&](Point2i p, int cap) {
+        EXPECT_TRUE(p.x >= 0 && p.x < 320 && p.y >= 0 && p.y < 180);
+        ++(cap == 64 ? low : full);
+        return std::min(cap, 300);
+    });
+    EXPECT_GE(low.load(), kCutProbePixels / 2);
+    EXPECT_EQ(low.load(), full.load());
+    EXPECT_EQ(plan.cap, 1000);  // a million seconds is enough
+    EXPECT_NEAR(plan.mean_full_size, 300, 1e-9);
+    // Where shading a pixel takes longer than the probe's share of the time, each visit stops
+    // after the pixels it started.
+    std::atomic<int> calls{0};
+    plan = cut_cap_for_time(320, 180, 64, 1000, 1e-3, [&](Point2i, int cap) {
+        ++calls;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        return cap;
+    });
+    EXPECT_LE(calls.load(), 2 * 16);  // at most a few per thread and visit
+    EXPECT_EQ(plan.cap, 64);
 }
 
 }  // namespace ml

@@ -122,6 +122,16 @@ std::string capped_cut_warning(const std::string& integrator, const char* what, 
                        : "");
 }
 
+std::string time_capped_cut_warning(const std::string& integrator, const char* what, double capped,
+                                    int cap, int max_cut) {
+    if (!(capped > 0.1)) return "";
+    return fmt::format(
+        "{0}: to end a pass within --time-limit, cuts stopped at {3} (not {0}.max_cut, {4}); "
+        "{1:.0f}% of {2} reached it, where the error is not bounded by {0}.error (more noise, "
+        "and spikes split away): a longer time limit lifts the cap",
+        integrator, 100 * capped, what, cap, max_cut);
+}
+
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {
     return {{"point_light_seconds", set.seconds},
             {"omni", set.omni},

@@ -76,6 +76,9 @@ void build_many_lights(const Scene& scene, const ManyLightSettings& settings, Po
 // empty below 10%.
 std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
                                int max_cut, const PointLightSet& set);
+// The same where a time limit stopped the cuts at `cap`, below max_cut (manylight/pilot.h).
+std::string time_capped_cut_warning(const std::string& integrator, const char* what, double capped,
+                                    int cap, int max_cut);
 // The --stats figures of the point-light set and the sampled direct light (build time, lights
 // by kind, light paths, direct-light mode), as lightcuts and mdlightcuts report them.
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct);

@@ -1,5 +1,7 @@
 #include "manylight/pilot.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -7,24 +9,102 @@
 
 namespace ml {
 
+namespace {
+
+// The pixels of a regular grid of about `count` pixels over a w x h film, each at the middle of
+// its cell.
+std::vector<Point2i> grid_pixels(int w, int h, int count) {
+    int step = std::max(1, int(std::lround(std::sqrt(double(w) * h / count))));
+    int nx = (w + step - 1) / step, ny = (h + step - 1) / step;
+    std::vector<Point2i> out;
+    for (int iy = 0; iy < ny; ++iy)
+        for (int ix = 0; ix < nx; ++ix)
+            out.push_back(
+                {std::min(w - 1, ix * step + step / 2), std::min(h - 1, iy * step + step / 2)});
+    return out;
+}
+
+}  // namespace
+
 double pilot_mean_luminance(int width, int height,
                             const std::function<RGB(Point2i pixel)>& estimate) {
-    const int w = width, h = height;
-    if (w <= 0 || h <= 0) return 0;
-    // A grid of about kPilotPixels pixels, each at the middle of its cell.
-    int step = std::max(1, int(std::lround(std::sqrt(double(w) * h / kPilotPixels))));
-    int nx = (w + step - 1) / step, ny = (h + step - 1) / step;
-    std::vector<double> values(size_t(nx) * ny, 0.0);
+    if (width <= 0 || height <= 0) return 0;
+    const std::vector<Point2i> pixels = grid_pixels(width, height, kPilotPixels);
+    std::vector<double> values(pixels.size(), 0.0);
     parallel_for(size_t(0), values.size(), [&](size_t i) {
-        Point2i pixel{std::min(w - 1, int(i % size_t(nx)) * step + step / 2),
-                      std::min(h - 1, int(i / size_t(nx)) * step + step / 2)};
-        RGB v = estimate(pixel);
+        RGB v = estimate(pixels[i]);
         double l = v.luminance();
         values[i] = std::isfinite(l) ? std::max(0.0, l) : 0.0;
     });
     double sum = 0;
     for (double v : values) sum += v;  // in grid order: the same for any schedule
     return sum / double(values.size());
+}
+
+CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest, int max_cut,
+                          double seconds) {
+    CutCapPlan plan;
+    plan.cap = max_cut;
+    if (probe.low_seconds < 0 || probe.full_seconds < 0) {  // the probe's time ran out
+        plan.cap = lowest;
+        return plan;
+    }
+    auto mean_size = [&](int cap) {
+        double sum = 0;
+        for (int s : probe.full_sizes) sum += std::min(s, cap);
+        return probe.full_sizes.empty() ? 0.0 : sum / double(probe.full_sizes.size());
+    };
+    const double s_low = probe.low_mean_size, s_full = mean_size(max_cut);
+    const double per_size =
+        s_full > s_low ? std::max(0.0, probe.full_seconds - probe.low_seconds) / (s_full - s_low)
+                       : 0;
+    auto predicted = [&](int cap) {
+        return film_pixels * (probe.low_seconds + per_size * (mean_size(cap) - s_low));
+    };
+    plan.full_seconds = film_pixels * probe.full_seconds;
+    plan.mean_full_size = s_full;
+    if (plan.full_seconds <= seconds) {
+        plan.capped_seconds = plan.full_seconds;
+        return plan;
+    }
+    // The predicted time grows with the cap: the largest cap that fits, by bisection.
+    int lo = lowest, hi = max_cut;
+    while (hi - lo > 1) {
+        int mid = lo + (hi - lo) / 2;
+        (predicted(mid) <= seconds ? lo : hi) = mid;
+    }
+    plan.cap = lo;
+    plan.capped_seconds = predicted(lo);
+    return plan;
+}
+
+CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, double seconds,
+                            const std::function<int(Point2i pixel, int cap)>& shade) {
+    if (width <= 0 || height <= 0 || lowest >= max_cut) return CutCapPlan{max_cut};
+    const std::vector<Point2i> pixels = grid_pixels(width, height, kCutProbePixels);
+    // A visit of the grid at one cap: the pixels' cut sizes (-1 where the visit's share of the
+    // time ran out before the pixel started), and the wall seconds per pixel visited.
+    std::vector<int> sizes(pixels.size());
+    auto visit = [&](int cap) {
+        auto t0 = std::chrono::steady_clock::now();
+        auto spent = [&] {
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        };
+        parallel_for(size_t(0), pixels.size(), [&](size_t i) {
+            sizes[i] = spent() < kCutProbeShare * seconds ? shade(pixels[i], cap) : -1;
+        });
+        double t = spent();
+        std::erase_if(sizes, [](int s) { return s < 0; });
+        return sizes.empty() ? -1.0 : t / double(sizes.size());
+    };
+    CutProbe probe;
+    probe.low_seconds = visit(lowest);
+    for (int s : sizes) probe.low_mean_size += s;
+    if (!sizes.empty()) probe.low_mean_size /= double(sizes.size());
+    sizes.assign(pixels.size(), 0);
+    probe.full_seconds = visit(max_cut);
+    probe.full_sizes = std::move(sizes);
+    return choose_cut_cap(probe, double(width) * double(height), lowest, max_cut, seconds);
 }
 
 }  // namespace ml

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <functional>
+#include <vector>
 
 #include "core/color.h"
 #include "core/math.h"
@@ -33,5 +34,50 @@ double pilot_mean_luminance(int width, int height,
 inline float cut_tolerance(float error, const RGB& estimate, float floor_luminance) {
     return error * std::max(estimate.luminance(), floor_luminance);
 }
+
+// Under a time limit: the cut cap that lets one pass over the film end in `seconds`. A cut's
+// cost grows with its size; the full cuts of a pass over a large film (the kitchen at 320x180
+// with mdlightcuts' defaults: about 35 CPU s) need not fit a short limit, and a pass cut short
+// leaves pixels black. A cut stopped at a cap estimates the same sum, with more noise; but past
+// the cap the cut splits the pairs whose estimate is a spike (product_cut.cpp), which takes a
+// little of rare representatives' light away: the kitchen at cap 64 is about 1% darker than at
+// max_cut 1000 (bench/RESULTS.md, "Issue 13, session 10").
+struct CutCapPlan {
+    int cap = 0;                // the cap the pass should use, in [lowest, max_cut]
+    double full_seconds = 0;    // one pass's predicted wall time at max_cut
+    double capped_seconds = 0;  // ... at `cap`
+    double mean_full_size = 0;  // the probe's mean cut size at max_cut
+};
+
+// The share of the time left that a time-limited render plans its first pass to take.
+constexpr double kFirstPassTimeShare = 0.8;
+
+// Pixels the timing probe visits: a regular grid of about this many.
+constexpr int kCutProbePixels = 256;
+// Each of the probe's two visits of the grid stops starting pixels past this share of `seconds`.
+constexpr double kCutProbeShare = 0.05;
+
+// What the timing probe measured: wall seconds per probed pixel (all threads working) at cap
+// `lowest` and at max_cut (< 0: the probe's time ran out before any pixel), the mean cut size
+// at `lowest`, and the cut sizes at max_cut.
+struct CutProbe {
+    double low_seconds = -1, full_seconds = -1;
+    double low_mean_size = 0;
+    std::vector<int> full_sizes;
+};
+
+// The largest cap in [lowest, max_cut] that a pass over `film_pixels` pixels is predicted to
+// finish in `seconds`: a pixel's time is taken as a + b * (its cut size), fitted to the probe's
+// two visits, and a cap c as making each probed cut min(size at max_cut, c). max_cut when the
+// full cuts fit; `lowest` when nothing does or the probe has no figure.
+CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest, int max_cut,
+                          double seconds);
+
+// Probes a sparse grid of the film (about kCutProbePixels pixels, in parallel) twice: with cap
+// `lowest` and with `max_cut`, each visit timed and stopped past kCutProbeShare of `seconds`;
+// shade(pixel, cap) shades one pixel's pass with cuts stopped at `cap` and returns the cut's size.
+// Then choose_cut_cap.
+CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, double seconds,
+                            const std::function<int(Point2i pixel, int cap)>& shade);
 
 }  // namespace ml

@@ -11,15 +11,18 @@
 // pass's sum, times its throughput. A pass adds that mean to the film with the pass's summed
 // filter weight, which gives the film's filtered mean over all passes (`maxcomponentvalue`
 // then clamps a pass's mean, not each sample). Under --time-limit passes repeat while time is
-// left; --spp N takes ceil(N / S) passes.
+// left, and the cuts stop at the cap that lets the first pass end in time (manylight/pilot.h);
+// --spp N takes ceil(N / S) passes.
 #pragma once
 
 #include <atomic>
 #include <vector>
 
+#include "core/parallel.h"
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"
+#include "manylight/pilot.h"
 #include "manylight/point_light_set.h"
 #include "manylight/product_cut.h"
 #include "render/integrator.h"
@@ -46,6 +49,8 @@ private:
     // max_cut pairs.
     PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
                                int max_cut) const;
+    // Under a time limit, m_pass_cap and m_cap_plan from a timing probe of pass 0.
+    void plan_pass_cap(const RenderContext& ctx, ThreadLocal<ThreadState>& states);
     // The same, added to the film and counted in the figures.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                            int pass) const;
@@ -56,6 +61,10 @@ private:
     int m_samples = 32;
     float m_error = 0.1f;
     int m_max_cut = 1000;
+    // The cap the passes use: max_cut, or under a time limit what lets the first pass end in
+    // time (manylight/pilot.h: cut_cap_for_time).
+    int m_pass_cap = 1000;
+    CutCapPlan m_cap_plan;
     int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
     // The error floor (manylight/pilot.h): `mdlightcuts.floor` times the pilot's mean luminance.
     float m_floor = 1.0f;
