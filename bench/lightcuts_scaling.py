@@ -7,7 +7,10 @@ The brute force is O(lights) per pixel, so both integrators render a small image
 comparison (said in the table); `lightcuts` is also timed alone at the larger resolution.
 Usage: bench/lightcuts_scaling.py SCENE [--counts 1000,10000,100000] [--glossy bsdf|diffuse|skip]
        [--direct points|sample] [--error 0.02] [--exact-max 100000] [--small 48x27]
-       [--small-spp 4] [--no-append]
+       [--small-spp 4] [--defaults] [--no-append]
+
+--defaults: only vpl.count is set; every other setting (vpl.glossy, lights.direct,
+lightcuts.error, max_cut, clamp, floor) is the integrators' default, as a user gets it.
 
 --direct sample: the area and infinite lights' direct light by next-event estimation
 (lights.direct=sample), so the tree holds the VPLs and the delta lights only.
@@ -38,6 +41,7 @@ def arg(name, default):
 
 DIRECT = "points"
 ERROR = "0.02"
+DEFAULTS = False
 
 
 def render(scene, integrator, count, res, glossy, tmp, spp=1):
@@ -45,10 +49,11 @@ def render(scene, integrator, count, res, glossy, tmp, spp=1):
     stats = out + ".json"
     cmd = [BIN, "render", scene, "-q", "--threads", "2", "--spp", str(spp), "--seed", "1",
            "--resolution", res, "--integrator", integrator, "--set", f"vpl.count={count}",
-           "--set", f"vpl.glossy={glossy}", "--set", f"lights.direct={DIRECT}", "-o", out,
-           "--stats", stats]
-    if integrator == "lightcuts":
-        cmd += ["--set", f"lightcuts.error={ERROR}"]
+           "-o", out, "--stats", stats]
+    if not DEFAULTS:
+        cmd += ["--set", f"vpl.glossy={glossy}", "--set", f"lights.direct={DIRECT}"]
+        if integrator == "lightcuts":
+            cmd += ["--set", f"lightcuts.error={ERROR}"]
     t0 = time.time()
     subprocess.run(cmd, check=True)
     with open(stats) as f:
@@ -87,7 +92,8 @@ def percentiles(a, b):
 
 
 def main():
-    global DIRECT, ERROR
+    global DIRECT, ERROR, DEFAULTS
+    DEFAULTS = "--defaults" in sys.argv
     scene = sys.argv[1]
     DIRECT = arg("--direct", "points")
     ERROR = arg("--error", "0.02")
@@ -107,8 +113,9 @@ def main():
                 row["exs"] = exs
                 row["pct"] = percentiles(lc_small, ex_small)
             rows.append(row)
-    lines = [f"Scene `{os.path.relpath(scene, ROOT)}`, vpl.glossy={glossy}, lights.direct={DIRECT}, "
-             f"error {ERROR}, 2 threads; "
+    settings = ("the integrators' defaults" if DEFAULTS else
+                f"vpl.glossy={glossy}, lights.direct={DIRECT}, error {ERROR}")
+    lines = [f"Scene `{os.path.relpath(scene, ROOT)}`, {settings}, 2 threads; "
              f"{large} at 1 spp, {small} at {small_spp} spp.",
              "",
              f"| VPLs | point lights | light set s | tree build s | avg cut | max cut | lightcuts render s ({large}) | lightcuts s ({small}) | vpl s ({small}) | speedup | speedup, shading only | rel. error p50 / p90 / p99 | within 2% |",

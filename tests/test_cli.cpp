@@ -261,24 +261,27 @@ TEST_F(Cli, TimeLimitHoldsWhenOnePassWouldTakeMinutes) {
     }
 }
 
-// Under a time limit that one pass of whole cuts would overrun many times, mdlightcuts stops its
-// cuts at the cap a timing probe says fits (manylight/pilot.h), so the first pass ends in time
-// and no pixel is left black; it says so in a warning and in the stats.
-TEST_F(Cli, MdlightcutsFinishesItsFirstPassUnderATimeLimit) {
-    Result r = run(
-        "render --resolution 32x32 --integrator mdlightcuts --set vpl.count=20000 "
-        "--set mdlightcuts.error=1e-6 --set mdlightcuts.max_cut=20000 --set lights.direct=points "
-        "--time-limit 4 -o " +
-        path("t.exr") + " --stats " + path("t.json"));
-    ASSERT_EQ(r.code, 0) << r.output;
-    std::ifstream js(path("t.json"));
-    nlohmann::json stats = nlohmann::json::parse(js);
-    EXPECT_GE(stats.at("spp").get<int>(), 32) << stats;
-    EXPECT_EQ(stats.at("film").at("pixels_without_samples"), 0) << stats;
-    const nlohmann::json& cap = stats.at("mdlightcuts").at("time_cap");
-    EXPECT_LT(cap.at("cap").get<int>(), 20000) << cap;
-    EXPECT_GT(cap.at("full_pass_seconds").get<double>(), 4.0) << cap;
-    EXPECT_NE(r.output.find("to end a pass within --time-limit"), std::string::npos) << r.output;
+// Under a time limit that one pass of whole cuts would overrun many times, mdlightcuts and
+// bdlightcuts stop their cuts at the cap a timing probe says fits (manylight/pilot.h), so the
+// first pass ends in time and no pixel is left black; they say so in a warning and the stats.
+TEST_F(Cli, CutIntegratorsFinishTheirFirstPassUnderATimeLimit) {
+    for (auto [integrator, samples] :
+         {std::pair{std::string("mdlightcuts"), 32}, std::pair{std::string("bdlightcuts"), 16}}) {
+        Result r = run("render --resolution 32x32 --integrator " + integrator +
+                       " --set vpl.count=20000 --set " + integrator + ".error=1e-6 --set " +
+                       integrator + ".max_cut=20000 --set lights.direct=points --time-limit 4 -o " +
+                       path("t.exr") + " --stats " + path("t.json"));
+        ASSERT_EQ(r.code, 0) << integrator << ": " << r.output;
+        std::ifstream js(path("t.json"));
+        nlohmann::json stats = nlohmann::json::parse(js);
+        EXPECT_GE(stats.at("spp").get<int>(), samples) << stats;
+        EXPECT_EQ(stats.at("film").at("pixels_without_samples"), 0) << stats;
+        const nlohmann::json& cap = stats.at(integrator).at("time_cap");
+        EXPECT_LT(cap.at("cap").get<int>(), 20000) << cap;
+        EXPECT_GT(cap.at("full_pass_seconds").get<double>(), 4.0) << cap;
+        EXPECT_NE(r.output.find("to end a pass within --time-limit"), std::string::npos)
+            << r.output;
+    }
 }
 
 // `manylight view` and `render --look-at`: bad input is a clear error before anything listens.

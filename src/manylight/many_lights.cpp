@@ -111,8 +111,14 @@ void build_many_lights(const Scene& scene, const ManyLightSettings& settings, Po
 }
 
 std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
-                               int max_cut, const PointLightSet& set) {
+                               int max_cut, const PointLightSet& set, int time_cap) {
     if (!(capped > 0.1)) return "";
+    if (time_cap > 0 && time_cap < max_cut)
+        return fmt::format(
+            "{0}: to end a pass within --time-limit, cuts stopped at {3} (not {0}.max_cut, {4}); "
+            "{1:.0f}% of {2} reached it, where the error is not bounded by {0}.error (more "
+            "noise, and spikes split away): a longer time limit lifts the cap",
+            integrator, 100 * capped, what, time_cap, max_cut);
     return fmt::format(
         "{0}: {1:.0f}% of {2} reached {0}.max_cut ({3}), where the error is not bounded by "
         "{0}.error{4}",
@@ -122,14 +128,11 @@ std::string capped_cut_warning(const std::string& integrator, const char* what, 
                        : "");
 }
 
-std::string time_capped_cut_warning(const std::string& integrator, const char* what, double capped,
-                                    int cap, int max_cut) {
-    if (!(capped > 0.1)) return "";
-    return fmt::format(
-        "{0}: to end a pass within --time-limit, cuts stopped at {3} (not {0}.max_cut, {4}); "
-        "{1:.0f}% of {2} reached it, where the error is not bounded by {0}.error (more noise, "
-        "and spikes split away): a longer time limit lifts the cap",
-        integrator, 100 * capped, what, cap, max_cut);
+nlohmann::json cut_cap_json(const CutCapPlan& plan) {
+    return {{"cap", plan.cap},
+            {"full_pass_seconds", plan.full_seconds},
+            {"capped_pass_seconds", plan.capped_seconds},
+            {"probe_mean_cut", plan.mean_full_size}};
 }
 
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {

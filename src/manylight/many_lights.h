@@ -10,6 +10,7 @@
 
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
+#include "manylight/pilot.h"
 #include "manylight/point_light_set.h"
 #include "render/settings.h"
 
@@ -73,12 +74,12 @@ void build_many_lights(const Scene& scene, const ManyLightSettings& settings, Po
                        SampledDirectLight* direct);
 // For `lightcuts` and `mdlightcuts`: the warning that a fraction `capped` of their cuts (of
 // "gather points" or "pixel passes", `what`) stopped at max_cut, where the error is not bounded;
-// empty below 10%.
+// or, where a time limit stopped them at time_cap < max_cut (manylight/pilot.h), that it did.
+// Empty below 10%.
 std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
-                               int max_cut, const PointLightSet& set);
-// The same where a time limit stopped the cuts at `cap`, below max_cut (manylight/pilot.h).
-std::string time_capped_cut_warning(const std::string& integrator, const char* what, double capped,
-                                    int cap, int max_cut);
+                               int max_cut, const PointLightSet& set, int time_cap = 0);
+// The --stats figures of a time-limited pass's cut cap (mdlightcuts.time_cap).
+nlohmann::json cut_cap_json(const CutCapPlan& plan);
 // The --stats figures of the point-light set and the sampled direct light (build time, lights
 // by kind, light paths, direct-light mode), as lightcuts and mdlightcuts report them.
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct);

@@ -107,4 +107,15 @@ CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, doub
     return choose_cut_cap(probe, double(width) * double(height), lowest, max_cut, seconds);
 }
 
+CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut,
+                             const std::function<int(Point2i pixel, int cap)>& shade) {
+    if (!(ctx.time_limit > 0)) return CutCapPlan{max_cut};
+    const double seconds =
+        kFirstPassTimeShare * std::max(0.0, ctx.time_limit - ctx.elapsed()) * double(ctx.ranks());
+    CutCapPlan plan = cut_cap_for_time(ctx.film.width(), ctx.film.height(),
+                                       std::min(kPilotMaxCut, max_cut), max_cut, seconds, shade);
+    if (ctx.ranks() > 1) plan.cap = int(ctx.world->all_min(int64_t(plan.cap)));
+    return plan;
+}
+
 }  // namespace ml

@@ -15,6 +15,7 @@
 
 #include "core/color.h"
 #include "core/math.h"
+#include "render/integrator.h"
 #include "sampling/sampler.h"
 
 namespace ml {
@@ -79,5 +80,12 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
 // Then choose_cut_cap.
 CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, double seconds,
                             const std::function<int(Point2i pixel, int cap)>& shade);
+
+// What a many-light integrator with whole-film passes (mdlightcuts, bdlightcuts) runs before its
+// first: under ctx's time limit, cut_cap_for_time with kFirstPassTimeShare of the time left
+// (across ranks, each renders its share of the film and all take the least cap); without one,
+// max_cut.
+CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut,
+                             const std::function<int(Point2i pixel, int cap)>& shade);
 
 }  // namespace ml

@@ -256,17 +256,22 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             m_floor * pilot_mean_luminance(ctx.film.width(), ctx.film.height(), [&](Point2i pixel) {
                 return estimate_pass(ctx, states.local(), pixel, 0, kPilotMaxCut).value;
             }));
+    // Under a time limit, the cut cap that lets the first pass end in time (manylight/pilot.h).
+    const CutCapPlan cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
+        return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
+    });
+    const int pass_cap = cap_plan.cap;
     const int passes = (ctx.spp + m_samples - 1) / m_samples;
     const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
         ThreadState& ts = states.local();
         for (int64_t p = p0; p < p1; ++p) {
-            PassEstimate e = estimate_pass(ctx, ts, pixel, int(p), m_max_cut);
+            PassEstimate e = estimate_pass(ctx, ts, pixel, int(p), pass_cap);
             if (e.weight_sum == 0) continue;
             ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
             m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
             m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
             m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
-            if (e.pairs >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
+            if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
         }
     }));
 
@@ -280,6 +285,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"eye_length", m_eye_length},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
+                              {"time_cap", cut_cap_json(cap_plan)},
                               {"floor", m_floor},
                               {"floor_luminance", m_floor_luminance},
                               {"weights",
@@ -299,7 +305,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     figures.update(many_light_figures(m_set, unused_direct));
     result.stats["bdlightcuts"] = figures;
     double capped = double(m_capped.load()) / pixel_passes;
-    std::string warning = capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set);
+    std::string warning =
+        capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set, pass_cap);
     if (!warning.empty()) result.warnings.push_back(warning);
     return result;
 }

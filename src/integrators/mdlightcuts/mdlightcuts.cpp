@@ -73,7 +73,10 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
                 PassEstimate e = estimate_pass(ctx, states.local(), pixel, 0, kPilotMaxCut);
                 return e.value;
             }));
-    plan_pass_cap(ctx, states);
+    m_cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
+        return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
+    });
+    m_pass_cap = m_cap_plan.cap;
     // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
     // takes samples).
     const int passes = (ctx.spp + m_samples - 1) / m_samples;
@@ -89,9 +92,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.stats["mdlightcuts"] = figures_json(ctx, done);
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning =
-        m_pass_cap < m_max_cut
-            ? time_capped_cut_warning(name(), "pixel passes", capped, m_pass_cap, m_max_cut)
-            : capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set);
+        capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set, m_pass_cap);
     if (!warning.empty()) result.warnings.push_back(warning);
     // The cut-size heat map: the mean number of pairs of each pixel's passes.
     Image cut(w, h);
@@ -100,25 +101,6 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
             RGB(m_pixel_passes_done[i] ? m_pixel_pairs[i] / float(m_pixel_passes_done[i]) : 0.f);
     result.aovs["cutsize"] = std::move(cut);
     return result;
-}
-
-void MdLightcutsIntegrator::plan_pass_cap(const RenderContext& ctx,
-                                          ThreadLocal<ThreadState>& states) {
-    m_pass_cap = m_max_cut;
-    m_cap_plan = CutCapPlan();
-    if (!(ctx.time_limit > 0)) return;
-    // The first pass gets this share of the time left; later passes run if they fit. Across
-    // ranks each renders a share of the film (the probe times the whole film's grid), and they
-    // take the least cap of any, so that every rank shades alike.
-    const double seconds =
-        kFirstPassTimeShare * std::max(0.0, ctx.time_limit - ctx.elapsed()) * double(ctx.ranks());
-    m_cap_plan =
-        cut_cap_for_time(ctx.film.width(), ctx.film.height(), std::min(kPilotMaxCut, m_max_cut),
-                         m_max_cut, seconds, [&](Point2i pixel, int cap) {
-                             return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
-                         });
-    m_pass_cap = m_cap_plan.cap;
-    if (ctx.ranks() > 1) m_pass_cap = int(ctx.world->all_min(int64_t(m_pass_cap)));
 }
 
 void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadState& ts,
@@ -226,11 +208,7 @@ nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int
         {"error", m_error},
         {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
         {"max_cut", m_max_cut},
-        {"time_cap",
-         {{"cap", m_pass_cap},
-          {"full_pass_seconds", m_cap_plan.full_seconds},
-          {"capped_pass_seconds", m_cap_plan.capped_seconds},
-          {"probe_mean_cut", m_cap_plan.mean_full_size}}},
+        {"time_cap", cut_cap_json(m_cap_plan)},
         {"tighten", m_tighten},
         {"floor", m_floor},
         {"floor_luminance", m_floor_luminance},

@@ -18,7 +18,6 @@
 #include <atomic>
 #include <vector>
 
-#include "core/parallel.h"
 #include "manylight/direct.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"
@@ -49,8 +48,6 @@ private:
     // max_cut pairs.
     PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
                                int max_cut) const;
-    // Under a time limit, m_pass_cap and m_cap_plan from a timing probe of pass 0.
-    void plan_pass_cap(const RenderContext& ctx, ThreadLocal<ThreadState>& states);
     // The same, added to the film and counted in the figures.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                            int pass) const;
@@ -62,7 +59,7 @@ private:
     float m_error = 0.1f;
     int m_max_cut = 1000;
     // The cap the passes use: max_cut, or under a time limit what lets the first pass end in
-    // time (manylight/pilot.h: cut_cap_for_time).
+    // time (manylight/pilot.h: plan_pass_cut_cap).
     int m_pass_cap = 1000;
     CutCapPlan m_cap_plan;
     int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
