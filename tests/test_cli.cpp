@@ -261,9 +261,10 @@ TEST_F(Cli, TimeLimitHoldsWhenOnePassWouldTakeMinutes) {
     }
 }
 
-// Under a time limit that one pass of whole cuts would overrun many times, mdlightcuts and
-// bdlightcuts stop their cuts at the cap a timing probe says fits (manylight/pilot.h), so the
-// first pass ends in time and no pixel is left black; they say so in a warning and the stats.
+// Under a time limit that one pass of whole cuts would overrun many times, mdlightcuts,
+// bdlightcuts and lightcuts stop their cuts at the cap a timing probe says fits
+// (manylight/pilot.h), so the first pass ends in time and no pixel is left black; they say so in a
+// warning and the stats.
 TEST_F(Cli, CutIntegratorsFinishTheirFirstPassUnderATimeLimit) {
     for (auto [integrator, samples] :
          {std::pair{std::string("mdlightcuts"), 32}, std::pair{std::string("bdlightcuts"), 16}}) {

@@ -70,7 +70,8 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     double shadow_per_pixel = double(stats::total().shadow) / pixels;
     double avg = n ? double(m_cut_sum.load()) / double(n) : 0.0;
     double capped = n ? double(m_capped.load()) / double(n) : 0.0;
-    std::string warning = capped_cut_warning(name(), "gather points", capped, m_max_cut, m_set);
+    std::string warning =
+        capped_cut_warning(name(), "gather points", capped, m_max_cut, m_set, m_pass_cap);
     if (!warning.empty()) r.warnings.push_back(warning);
     nlohmann::json& lc = r.stats["lightcuts"];
     lc = {{"error", m_error},
@@ -79,6 +80,7 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
           {"criterion", criterion_name()},
           {"reps", m_reps},
           {"max_cut", m_max_cut},
+          {"time_cap", cut_cap_json(m_cap_plan)},
           {"avg_cut_size", avg},
           {"max_cut_size", m_cut_max.load()},
           {"capped_fraction", capped},
@@ -114,15 +116,14 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
 }
 
 void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
-    m_floor_luminance = 0;
-    if (!(m_floor > 0)) return;
-    // Sample 0 of each pilot pixel, shaded as li() does with cuts of at most kPilotMaxCut nodes.
+    // Sample 0 of a pixel, shaded as li() does with cuts of at most `cap` nodes; *nodes receives
+    // the cuts' summed size.
     struct State {
         std::unique_ptr<Sampler> sampler;
         ScratchBuffer scratch;
     };
     ThreadLocal<State> states([&] { return State{ctx.sampler.clone(), ScratchBuffer()}; });
-    double mean = pilot_mean_luminance(ctx.film.width(), ctx.film.height(), [&](Point2i pixel) {
+    auto sample0 = [&](Point2i pixel, int cap, int* nodes) {
         State& st = states.local();
         Sampler& sampler = *st.sampler;
         sampler.start_pixel_sample(pixel, 0);
@@ -133,13 +134,28 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
                                  int cut_size = 0;
                                  RGB direct = m_direct.estimate(ctx.scene, g, sampler);
                                  int k = std::min(m_reps - 1, int(u * float(m_reps)));
-                                 return direct +
-                                        shade(ctx.scene, g, k, &cut_size, direct, kPilotMaxCut);
+                                 RGB c = shade(ctx.scene, g, k, &cut_size, direct, cap);
+                                 *nodes += cut_size;
+                                 return direct + c;
                              });
         st.scratch.reset();
         return L;
+    };
+    // The error floor, from a pilot of small cuts.
+    m_floor_luminance = 0;
+    if (m_floor > 0)
+        m_floor_luminance = float(
+            m_floor * pilot_mean_luminance(ctx.film.width(), ctx.film.height(), [&](Point2i pixel) {
+                int nodes = 0;
+                return sample0(pixel, kPilotMaxCut, &nodes);
+            }));
+    // Under a time limit, the cap that lets the first pass (a sample per pixel) end in time.
+    m_cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
+        int nodes = 0;
+        sample0(pixel, cap, &nodes);
+        return nodes;
     });
-    m_floor_luminance = float(m_floor * mean);
+    m_pass_cap = m_cap_plan.cap;
 }
 
 RGB LightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
@@ -174,7 +190,7 @@ RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& 
                 SparseCut* out = at_first ? record : nullptr;
                 if (at_first && !corners.empty()) m_refined.fetch_add(1, std::memory_order_relaxed);
                 c = direct +
-                    shade(scene, g, k, &cut_size, direct, m_max_cut, out ? &out->cut : nullptr);
+                    shade(scene, g, k, &cut_size, direct, m_pass_cap, out ? &out->cut : nullptr);
                 if (out) {
                     out->valid = true;
                     out->material = g.si.material;
@@ -184,7 +200,7 @@ RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& 
             }
             m_cut_sum.fetch_add(uint64_t(cut_size), std::memory_order_relaxed);
             m_gather_points.fetch_add(1, std::memory_order_relaxed);
-            if (cut_size >= m_max_cut) m_capped.fetch_add(1, std::memory_order_relaxed);
+            if (cut_size >= m_pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
             int prev = m_cut_max.load(std::memory_order_relaxed);
             while (cut_size > prev && !m_cut_max.compare_exchange_weak(prev, cut_size)) {
             }

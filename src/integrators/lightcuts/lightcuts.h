@@ -97,6 +97,10 @@ private:
                                              : (m_criterion == Criterion::Sum ? "sum" : "probable");
     }
     int m_max_cut = 1000;
+    // The cap the gather points' cuts use: max_cut, or under a time limit what lets the first
+    // pass end in time (manylight/pilot.h: plan_pass_cut_cap).
+    int m_pass_cap = 1000;
+    CutCapPlan m_cap_plan;
     // The error floor (manylight/pilot.h): `lightcuts.floor` times the pilot's mean luminance.
     float m_floor = 1.0f;
     float m_floor_luminance = 0;
