@@ -60,8 +60,15 @@ TEST(CutCap, LargestCapThatFitsTheTime) {
     // 100 s: a mean of 100 pairs, (100 + 100) / 2 at c = 100.
     plan = choose_cut_cap(probe, 1000, 64, 1000, 100);
     EXPECT_EQ(plan.cap, 100);
-    // 50 s: nothing fits; the least cap.
-    EXPECT_EQ(choose_cut_cap(probe, 1000, 64, 1000, 50).cap, 64);
+    EXPECT_EQ(plan.samples_scale, 1);
+    EXPECT_EQ(pass_samples(32, plan), 32);
+    // 50 s: nothing fits; the least cap (64 s), and the samples scaled by 50 / 64, with the
+    // margin: 32 x 0.78125 x 0.8 = 20.
+    plan = choose_cut_cap(probe, 1000, 64, 1000, 50);
+    EXPECT_EQ(plan.cap, 64);
+    EXPECT_NEAR(plan.samples_scale, 50.0 / 64.0, 1e-9);
+    EXPECT_EQ(pass_samples(32, plan), 20);
+    EXPECT_EQ(pass_samples(1, plan), 1);
 }
 
 TEST(CutCap, AFixedCostPerPixelCounts) {
@@ -73,32 +80,38 @@ TEST(CutCap, AFixedCostPerPixelCounts) {
     probe.full_seconds = 410e-3;
     // 100 pixels in 20.05 s: 200.5 ms a pixel, 190.5 pairs.
     EXPECT_EQ(choose_cut_cap(probe, 100, 64, 1000, 20.05).cap, 190);
-    // Without a figure (the probe ran out of time), the least cap.
+    // Without a figure (the probe ran out of time), the least cap and one sample a pass.
     probe.full_seconds = -1;
-    EXPECT_EQ(choose_cut_cap(probe, 100, 64, 1000, 1e9).cap, 64);
+    CutCapPlan plan = choose_cut_cap(probe, 100, 64, 1000, 1e9);
+    EXPECT_EQ(plan.cap, 64);
+    EXPECT_EQ(pass_samples(32, plan), 1);
 }
 
 TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
     std::atomic<int> low{0}, full{0};
-    CutCapPlan plan = cut_cap_for_time(320, 180, 64, 1000, 1e6, [&](Point2i p, int cap) {
+    CutProbe probe = probe_cuts(320, 180, 64, 1000, 1e6, [&](Point2i p, int cap) {
         EXPECT_TRUE(p.x >= 0 && p.x < 320 && p.y >= 0 && p.y < 180);
         ++(cap == 64 ? low : full);
         return std::min(cap, 300);
     });
     EXPECT_GE(low.load(), kCutProbePixels / 2);
     EXPECT_EQ(low.load(), full.load());
+    EXPECT_EQ(probe.full_sizes.size(), size_t(low.load()));
+    EXPECT_NEAR(probe.low_mean_size, 64, 1e-9);
+    EXPECT_GT(probe.full_seconds, 0);
+    CutCapPlan plan = choose_cut_cap(probe, 320 * 180, 64, 1000, 1e6);
     EXPECT_EQ(plan.cap, 1000);  // a million seconds is enough
     EXPECT_NEAR(plan.mean_full_size, 300, 1e-9);
     // Where shading a pixel takes longer than the probe's share of the time, each visit stops
     // after the pixels it started.
     std::atomic<int> calls{0};
-    plan = cut_cap_for_time(320, 180, 64, 1000, 1e-3, [&](Point2i, int cap) {
+    probe = probe_cuts(320, 180, 64, 1000, 1e-3, [&](Point2i, int cap) {
         ++calls;
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         return cap;
     });
     EXPECT_LE(calls.load(), 2 * 16);  // at most a few per thread and visit
-    EXPECT_EQ(plan.cap, 64);
+    EXPECT_EQ(choose_cut_cap(probe, 320 * 180, 64, 1000, 1e-3).cap, 64);
 }
 
 }  // namespace ml

@@ -47,6 +47,7 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
     plan.cap = max_cut;
     if (probe.low_seconds < 0 || probe.full_seconds < 0) {  // the probe's time ran out
         plan.cap = lowest;
+        plan.samples_scale = 0;  // as few samples as a pass can take
         return plan;
     }
     auto mean_size = [&](int cap) {
@@ -75,12 +76,20 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
     }
     plan.cap = lo;
     plan.capped_seconds = predicted(lo);
+    if (plan.capped_seconds > seconds) plan.samples_scale = seconds / plan.capped_seconds;
     return plan;
 }
 
-CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, double seconds,
-                            const std::function<int(Point2i pixel, int cap)>& shade) {
-    if (width <= 0 || height <= 0 || lowest >= max_cut) return CutCapPlan{max_cut};
+int pass_samples(int samples, const CutCapPlan& plan) {
+    if (!(plan.samples_scale < 1)) return samples;
+    // The cut's cost stays when the samples shrink: ask for a fifth less than the ratio.
+    return std::max(1, int(double(samples) * plan.samples_scale * 0.8));
+}
+
+CutProbe probe_cuts(int width, int height, int lowest, int max_cut, double seconds,
+                    const std::function<int(Point2i pixel, int cap)>& shade) {
+    CutProbe probe;
+    if (width <= 0 || height <= 0) return probe;
     const std::vector<Point2i> pixels = grid_pixels(width, height, kCutProbePixels);
     // A visit of the grid at one cap: the pixels' cut sizes (-1 where the visit's share of the
     // time ran out before the pixel started), and the wall seconds per pixel visited.
@@ -97,23 +106,25 @@ CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, doub
         std::erase_if(sizes, [](int s) { return s < 0; });
         return sizes.empty() ? -1.0 : t / double(sizes.size());
     };
-    CutProbe probe;
     probe.low_seconds = visit(lowest);
     for (int s : sizes) probe.low_mean_size += s;
     if (!sizes.empty()) probe.low_mean_size /= double(sizes.size());
     sizes.assign(pixels.size(), 0);
     probe.full_seconds = visit(max_cut);
     probe.full_sizes = std::move(sizes);
-    return choose_cut_cap(probe, double(width) * double(height), lowest, max_cut, seconds);
+    return probe;
 }
 
 CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut,
                              const std::function<int(Point2i pixel, int cap)>& shade) {
-    if (!(ctx.time_limit > 0)) return CutCapPlan{max_cut};
-    const double seconds =
-        kFirstPassTimeShare * std::max(0.0, ctx.time_limit - ctx.elapsed()) * double(ctx.ranks());
-    CutCapPlan plan = cut_cap_for_time(ctx.film.width(), ctx.film.height(),
-                                       std::min(kPilotMaxCut, max_cut), max_cut, seconds, shade);
+    const int lowest = std::min(kPilotMaxCut, max_cut);
+    if (!(ctx.time_limit > 0) || lowest >= max_cut) return CutCapPlan{max_cut};
+    // The time left, as this rank's share of the film sees it.
+    auto left = [&] { return std::max(0.0, ctx.time_limit - ctx.elapsed()) * double(ctx.ranks()); };
+    const int w = ctx.film.width(), h = ctx.film.height();
+    CutProbe probe = probe_cuts(w, h, lowest, max_cut, left(), shade);
+    CutCapPlan plan =
+        choose_cut_cap(probe, double(w) * double(h), lowest, max_cut, kFirstPassTimeShare * left());
     if (ctx.ranks() > 1) plan.cap = int(ctx.world->all_min(int64_t(plan.cap)));
     return plan;
 }

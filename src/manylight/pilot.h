@@ -48,10 +48,19 @@ struct CutCapPlan {
     double full_seconds = 0;    // one pass's predicted wall time at max_cut
     double capped_seconds = 0;  // ... at `cap`
     double mean_full_size = 0;  // the probe's mean cut size at max_cut
+    // Where even `lowest` does not fit: the time over its predicted time (< 1); else 1. The
+    // cuts are then near their least cost, and what is left to shrink is the pass's samples
+    // (pass_samples).
+    double samples_scale = 1;
 };
 
+// The samples a pass takes under `plan`: `samples`, or where even the least cut does not fit,
+// that many scaled down by plan.samples_scale (with a margin: a pass's cut costs the same for
+// fewer samples), at least 1.
+int pass_samples(int samples, const CutCapPlan& plan);
+
 // The share of the time left that a time-limited render plans its first pass to take.
-constexpr double kFirstPassTimeShare = 0.8;
+constexpr double kFirstPassTimeShare = 0.7;
 
 // Pixels the timing probe visits: a regular grid of about this many.
 constexpr int kCutProbePixels = 256;
@@ -77,14 +86,13 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
 // Probes a sparse grid of the film (about kCutProbePixels pixels, in parallel) twice: with cap
 // `lowest` and with `max_cut`, each visit timed and stopped past kCutProbeShare of `seconds`;
 // shade(pixel, cap) shades one pixel's pass with cuts stopped at `cap` and returns the cut's size.
-// Then choose_cut_cap.
-CutCapPlan cut_cap_for_time(int width, int height, int lowest, int max_cut, double seconds,
-                            const std::function<int(Point2i pixel, int cap)>& shade);
+CutProbe probe_cuts(int width, int height, int lowest, int max_cut, double seconds,
+                    const std::function<int(Point2i pixel, int cap)>& shade);
 
 // What a many-light integrator with whole-film passes (mdlightcuts, bdlightcuts) runs before its
-// first: under ctx's time limit, cut_cap_for_time with kFirstPassTimeShare of the time left
-// (across ranks, each renders its share of the film and all take the least cap); without one,
-// max_cut.
+// first: under ctx's time limit, probe_cuts, then choose_cut_cap for kFirstPassTimeShare of
+// the time left after the probe (across ranks, each renders its share of the film and all take
+// the least cap); without one, max_cut.
 CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut,
                              const std::function<int(Point2i pixel, int cap)>& shade);
 

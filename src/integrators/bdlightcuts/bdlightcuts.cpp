@@ -257,11 +257,13 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                 return estimate_pass(ctx, states.local(), pixel, 0, kPilotMaxCut).value;
             }));
     // Under a time limit, the cut cap that lets the first pass end in time (manylight/pilot.h).
+    m_pass_samples = m_samples;
     const CutCapPlan cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
         return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
     });
     const int pass_cap = cap_plan.cap;
-    const int passes = (ctx.spp + m_samples - 1) / m_samples;
+    m_pass_samples = pass_samples(m_samples, cap_plan);
+    const int passes = (ctx.spp + m_pass_samples - 1) / m_pass_samples;
     const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
         ThreadState& ts = states.local();
         for (int64_t p = p0; p < p1; ++p) {
@@ -276,12 +278,13 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     }));
 
     RenderResult result;
-    result.spp = done * m_samples;
+    result.spp = done * m_pass_samples;
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
     double pixels = double(ctx.film.width()) * ctx.film.height();
     nlohmann::json figures = {{"samples", m_samples},
+                              {"pass_samples", m_pass_samples},
                               {"eye_length", m_eye_length},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
@@ -323,8 +326,8 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const R
     // 1. The pass's eye paths: their VSPs, and the emission they meet, weighted by filter.
     RGB known;
     double weight_sum = 0;
-    for (int s = 0; s < m_samples; ++s) {
-        sampler.start_pixel_sample(pixel, pass * m_samples + s);
+    for (int s = 0; s < m_pass_samples; ++s) {
+        sampler.start_pixel_sample(pixel, pass * m_pass_samples + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

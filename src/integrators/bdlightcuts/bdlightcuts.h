@@ -58,6 +58,7 @@ private:
     // Defaults: bench/RESULTS.md, "Issue 17, Bidirectional Lightcuts".
     SplitWeightOptions m_weights;
     int m_samples = 16;
+    int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
     int m_eye_length = 2;
     float m_error = 0.1f;
     int m_max_cut = 300;

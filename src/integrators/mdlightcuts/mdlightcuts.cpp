@@ -73,20 +73,22 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
                 PassEstimate e = estimate_pass(ctx, states.local(), pixel, 0, kPilotMaxCut);
                 return e.value;
             }));
+    m_pass_samples = m_samples;
     m_cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
         return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
     });
     m_pass_cap = m_cap_plan.cap;
+    m_pass_samples = pass_samples(m_samples, m_cap_plan);
     // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
     // takes samples).
-    const int passes = (ctx.spp + m_samples - 1) / m_samples;
+    const int passes = (ctx.spp + m_pass_samples - 1) / m_pass_samples;
     const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
         ThreadState& ts = states.local();
         for (int64_t p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, pixel, int(p));
     }));
 
     RenderResult result;
-    result.spp = done * m_samples;
+    result.spp = done * m_pass_samples;
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     result.stats["mdlightcuts"] = figures_json(ctx, done);
@@ -136,8 +138,8 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const R
     RGB known;
     double weight_sum = 0;
     ts.uniforms.clear();
-    for (int s = 0; s < m_samples; ++s) {
-        sampler.start_pixel_sample(pixel, pass * m_samples + s);
+    for (int s = 0; s < m_pass_samples; ++s) {
+        sampler.start_pixel_sample(pixel, pass * m_pass_samples + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();
@@ -205,6 +207,7 @@ nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int
     double shadow = double(stats::total().shadow);
     nlohmann::json figures = {
         {"samples", m_samples},
+        {"pass_samples", m_pass_samples},
         {"error", m_error},
         {"criterion", m_criterion == CutCriterion::Max ? "max" : "sum"},
         {"max_cut", m_max_cut},
