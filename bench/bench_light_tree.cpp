@@ -82,13 +82,12 @@ void BM_LightcutRefine(benchmark::State& state) {
             return v;
         };
         auto make_entry = [&](int32_t index, int32_t rep, const RGB& rep_value) {
-            const LightTreeNode& n = tree.node(index);
             Entry e{index, rep, 0.f, rep_value, rep_value, true};
-            if (n.is_leaf()) return e;
-            e.estimate =
-                rep_value *
-                representative_scale(n.weight, selection_weight(set.lights[size_t(rep)].intensity));
-            RGB b = loose_node_bound(n, g.si.p, m_all);
+            if (tree.node(index).is_leaf()) return e;
+            e.estimate = rep_value *
+                         representative_scale(tree.weight(index),
+                                              selection_weight(set.lights[size_t(rep)].intensity));
+            RGB b = loose_node_bound(tree.ref(index), g.si.p, m_all);
             for (int c = 0; c < 3; ++c) b[c] = std::max(b[c], e.estimate[c]);
             e.bound = std::isnan(b.luminance()) ? kInfinity : b.luminance();
             e.tight = e.bound == 0;
@@ -104,7 +103,7 @@ void BM_LightcutRefine(benchmark::State& state) {
             Entry e = heap.back();
             heap.pop_back();
             if (!e.tight) {
-                RGB b = node_error_bound(tree.node(e.node), g.si.p, g.bsdf, g.si.wo);
+                RGB b = node_error_bound(tree.ref(e.node), g.si.p, g.bsdf, g.si.wo);
                 for (int c = 0; c < 3; ++c) b[c] = std::max(b[c], e.estimate[c]);
                 float l = std::isnan(b.luminance()) ? kInfinity : b.luminance();
                 e.bound = std::min(e.bound, l);
@@ -115,7 +114,7 @@ void BM_LightcutRefine(benchmark::State& state) {
             }
             total = total - e.estimate;
             ++refined;
-            for (int32_t child : tree.node(e.node).children) {
+            for (int32_t child : tree.node(e.node).children()) {
                 int32_t rep = tree.rep(child, k);
                 Entry c = make_entry(child, rep, rep == e.rep ? e.rep_value : value(rep));
                 total += c.estimate;
