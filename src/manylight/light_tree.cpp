@@ -101,8 +101,8 @@ struct PairCost {
     }
 };
 
-// A node while the tree is built: every field together (lay_out splits them into the hot nodes
-// and the side arrays).
+// A node while the tree is built, every field but the representatives together (lay_out splits
+// them into the hot nodes and the side arrays).
 struct BuildNode {
     Bounds3 bounds;
     DirectionCone cone;
@@ -110,7 +110,6 @@ struct BuildNode {
     float weight = 0;
     RGB bound_intensity;
     int32_t children[2] = {-1, -1};
-    int32_t light = -1;
     PointLightKind kind = PointLightKind::Omni;
     int32_t clampable = 0;
     uint8_t falloff[kFalloffBins] = {};
@@ -188,9 +187,9 @@ int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>&
         const PointLight& pl = lights[size_t(keys[k].second)];
         BuildNode& node = build.nodes[base + k];
         node.kind = kind;
-        node.light = keys[k].second;
+        // A leaf's representatives are all its light.
         std::fill_n(build.reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
-                    node.light);
+                    keys[k].second);
         node.intensity = pl.intensity;
         node.weight = selection_weight(pl.intensity);
         node.bound_intensity = pl.intensity;  // the light's own value is exact
@@ -309,7 +308,6 @@ int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>&
                 bool pick_a = node.weight > 0 ? u * node.weight < na.weight : u < 0.5f;
                 reps[k] = build.reps[size_t(pick_a ? a : b) * kLightTreeReps + size_t(k)];
             }
-            node.light = reps[0];
             build.nodes[id] = node;
             next.node[p] = int32_t(id), next.box[p] = node.bounds, next.axis[p] = node.cone.axis;
             next.theta[p] = cone_angle(node.cone), next.lum[p] = node.weight;
