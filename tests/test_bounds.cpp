@@ -220,11 +220,11 @@ namespace {
 void collect_leaves(const LightTree& tree, int32_t n, std::vector<int32_t>* out) {
     const LightTreeNode& node = tree.node(n);
     if (node.is_leaf()) {
-        out->push_back(node.light);
+        out->push_back(tree.light(n));
         return;
     }
-    collect_leaves(tree, node.children[0], out);
-    collect_leaves(tree, node.children[1], out);
+    collect_leaves(tree, node.children()[0], out);
+    collect_leaves(tree, node.children()[1], out);
 }
 
 RGB exact_contribution(const PointLightSet& set, const std::vector<int32_t>& ids, const Vec3& x,
@@ -280,7 +280,7 @@ TEST(BoundNode, AtLeastExactContribution) {
             Vec3 wo = random_unit(rng);
             if (q % 4 == 0) wo = face_forward(wo, frame.n);  // facing the lights more often
             RGB exact = exact_contribution(set, ids, x, bsdf, wo);
-            RGB bound = node_error_bound(node, x, bsdf, wo);
+            RGB bound = node_error_bound(tree.ref(n), x, bsdf, wo);
             ASSERT_TRUE(at_most(exact, bound))
                 << nb.name << " kind " << int(node.kind) << " lights " << ids.size() << " exact "
                 << exact.max_component() << " bound " << bound.max_component();
@@ -312,23 +312,23 @@ TEST(BoundNode, GeometricBoundsPerKind) {
     pl.p = Vec3(0, 0, 2), pl.n = Vec3(0, 0, -1), pl.intensity = RGB(1);
     std::vector<PointLight> lights{pl};
     LightTree omni(lights);
-    EXPECT_NEAR(geometric_bound(omni.node(omni.root(PointLightKind::Omni)), Vec3(0, 0, 0)), 0.25f,
+    EXPECT_NEAR(geometric_bound(omni.ref(omni.root(PointLightKind::Omni)), Vec3(0, 0, 0)), 0.25f,
                 1e-5f);
     // Oriented, facing x: cos 1; facing away: 0.
     lights[0].kind = PointLightKind::Oriented;
     LightTree ori(lights);
-    const LightTreeNode& on = ori.node(ori.root(PointLightKind::Oriented));
+    LightNodeRef on = ori.ref(ori.root(PointLightKind::Oriented));
     EXPECT_NEAR(geometric_bound(on, Vec3(0, 0, 0)), 0.25f, 1e-5f);
     EXPECT_EQ(geometric_bound(on, Vec3(0, 0, 4)), 0.f);
     // Directional: 1, and the direction cone points against the travel direction.
     lights[0].kind = PointLightKind::Directional;
     LightTree dir(lights);
-    const LightTreeNode& dn = dir.node(dir.root(PointLightKind::Directional));
+    LightNodeRef dn = dir.ref(dir.root(PointLightKind::Directional));
     EXPECT_EQ(geometric_bound(dn, Vec3(5, 5, 5)), 1.f);
-    EXPECT_NEAR(dot(node_direction_cone(dn, Vec3(5, 5, 5)).axis, Vec3(0, 0, 1)), 1.f, 1e-6f);
+    EXPECT_NEAR(dot(node_direction_cone(dn.node, Vec3(5, 5, 5)).axis, Vec3(0, 0, 1)), 1.f, 1e-6f);
     // Inside the box of a cluster: no bound.
     lights = {pl, pl};
     lights[1].p = Vec3(2, 2, 4);
     LightTree two(lights);
-    EXPECT_EQ(geometric_bound(two.node(two.root(PointLightKind::Omni)), Vec3(1, 1, 3)), kInfinity);
+    EXPECT_EQ(geometric_bound(two.ref(two.root(PointLightKind::Omni)), Vec3(1, 1, 3)), kInfinity);
 }

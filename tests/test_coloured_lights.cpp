@@ -93,24 +93,25 @@ TEST(ColouredLights, TreeEstimateIsTheExactSumInEveryChannel) {
         RGB exact;
         std::vector<int32_t> stack = {node};
         while (!stack.empty()) {
-            const LightTreeNode& m = first.node(stack.back());
+            int32_t m = stack.back();
             stack.pop_back();
-            if (m.is_leaf())
-                exact += lights[size_t(m.light)].intensity * factor[size_t(m.light)];
+            if (first.node(m).is_leaf())
+                exact += lights[size_t(first.light(m))].intensity * factor[size_t(first.light(m))];
             else
-                stack.insert(stack.end(), {m.children[0], m.children[1]});
+                stack.insert(stack.end(),
+                             {first.node(m).children()[0], first.node(m).children()[1]});
         }
         Sample est[3];
         for (int s = 0; s < seeds; ++s) {
             opts.seed = uint64_t(s);
             LightTree t(lights, opts);
             const LightTreeNode& nd = t.node(node);
-            ASSERT_EQ(nd.children[0], first.node(node).children[0]);
+            ASSERT_EQ(nd.children()[0], first.node(node).children()[0]);
             for (int k = 0; k < kLightTreeReps; ++k) {
                 int32_t r = t.rep(node, k);
                 const PointLight& pl = lights[size_t(r)];
                 RGB e = pl.intensity * factor[size_t(r)] *
-                        representative_scale(nd.weight, selection_weight(pl.intensity));
+                        representative_scale(t.weight(node), selection_weight(pl.intensity));
                 for (int c = 0; c < 3; ++c) {
                     est[c].add(e[c]);
                     ASSERT_LE(e[c], nd.bound_intensity[c] * factor_max) << "channel " << c;
@@ -125,7 +126,7 @@ TEST(ColouredLights, TreeEstimateIsTheExactSumInEveryChannel) {
             std::printf("node %d channel %d: exact %.5f estimate %.5f +- %.5f\n", node, c, exact[c],
                         est[c].mean(), est[c].stderr_of_mean());
         }
-        ASSERT_GE(first.node(node).bound_intensity.r, first.node(node).intensity.r);
+        ASSERT_GE(first.node(node).bound_intensity.r, first.intensity(node).r);
     }
 }
 

@@ -27,16 +27,16 @@ TEST(Vpl, GlossyClusterBoundsHoldTheirLights) {
     std::vector<int32_t> nodes{root};
     for (size_t i = 0; i < nodes.size(); ++i)
         if (!tree.node(nodes[i]).is_leaf())
-            for (int32_t c : tree.node(nodes[i]).children) nodes.push_back(c);
+            for (int32_t c : tree.node(nodes[i]).children()) nodes.push_back(c);
     auto leaves_of = [&](int32_t n) {
         std::vector<int32_t> out, stack{n};
         while (!stack.empty()) {
-            const LightTreeNode& m = tree.node(stack.back());
+            int32_t m = stack.back();
             stack.pop_back();
-            if (m.is_leaf())
-                out.push_back(m.light);
+            if (tree.node(m).is_leaf())
+                out.push_back(tree.light(m));
             else
-                stack.insert(stack.end(), {m.children[0], m.children[1]});
+                stack.insert(stack.end(), {tree.node(m).children()[0], tree.node(m).children()[1]});
         }
         return out;
     };
@@ -61,7 +61,7 @@ TEST(Vpl, GlossyClusterBoundsHoldTheirLights) {
             exact +=
                 bsdf.eval(wo, wi) * abs_dot(wi, frame.n) * point_light_intensity(set, pl, -wi) / d2;
         }
-        RGB bound = node_error_bound(tree.node(n), x, bsdf, wo);
+        RGB bound = node_error_bound(tree.ref(n), x, bsdf, wo);
         for (int c = 0; c < 3; ++c)
             ASSERT_LE(exact[c], bound[c] * 1.0001f + 1e-12f)
                 << "node " << n << " channel " << c << " lights " << leaves_of(n).size();

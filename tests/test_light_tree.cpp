@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -28,18 +29,21 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
                    std::vector<int32_t>* leaves, std::vector<int>* seen) {
     const LightTreeNode& node = tree.node(n);
     size_t first = leaves->size();
+    const int32_t light = tree.light(n);
     if (node.is_leaf()) {
-        ASSERT_GE(node.light, 0);
-        ASSERT_LT(size_t(node.light), lights.size());
-        const PointLight& pl = lights[size_t(node.light)];
+        ASSERT_GE(light, 0);
+        ASSERT_LT(size_t(light), lights.size());
+        const PointLight& pl = lights[size_t(light)];
         EXPECT_EQ(pl.kind, node.kind);
-        EXPECT_EQ(node.intensity, pl.intensity);
+        EXPECT_EQ(tree.intensity(n), pl.intensity);
         EXPECT_EQ(node.bound_intensity, pl.intensity);
-        EXPECT_EQ(node.weight, selection_weight(pl.intensity));
-        (*seen)[size_t(node.light)]++;
-        leaves->push_back(node.light);
+        EXPECT_EQ(tree.weight(n), selection_weight(pl.intensity));
+        (*seen)[size_t(light)]++;
+        leaves->push_back(light);
     } else {
-        for (int32_t c : node.children) {
+        // Siblings side by side (the hot node keeps only the first).
+        EXPECT_EQ(node.children()[1], node.children()[0] + 1);
+        for (int32_t c : node.children()) {
             ASSERT_GE(c, 0);
             const LightTreeNode& child = tree.node(c);
             EXPECT_EQ(child.kind, node.kind);
@@ -51,13 +55,13 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
             }
             check_subtree(tree, lights, c, leaves, seen);
         }
-        const LightTreeNode &a = tree.node(node.children[0]), &b = tree.node(node.children[1]);
-        RGB sum = a.intensity + b.intensity;
-        EXPECT_EQ(node.intensity, sum);
+        const int32_t a = node.children()[0], b = node.children()[1];
+        RGB sum = tree.intensity(a) + tree.intensity(b);
+        EXPECT_EQ(tree.intensity(n), sum);
         // Representatives are drawn by these weights (representative.h); the bound's intensity
         // holds the sum.
-        EXPECT_EQ(node.weight, a.weight + b.weight);
-        for (int c = 0; c < 3; ++c) EXPECT_GE(node.bound_intensity[c], node.intensity[c]);
+        EXPECT_EQ(tree.weight(n), tree.weight(a) + tree.weight(b));
+        for (int c = 0; c < 3; ++c) EXPECT_GE(node.bound_intensity[c], tree.intensity(n)[c]);
     }
     // Every light of the subtree: inside the box and the cone; intensities add up; the
     // representative is one of them.
@@ -76,27 +80,27 @@ void check_subtree(const LightTree& tree, const std::vector<PointLight>& lights,
             EXPECT_TRUE(cone_contains(node.cone, pl.n));
         }
         for (int c = 0; c < 3; ++c) total[c] += pl.intensity[c];
-        rep_found |= (*leaves)[k] == node.light;
+        rep_found |= (*leaves)[k] == light;
     }
-    EXPECT_TRUE(rep_found) << "representative " << node.light << " not in subtree of " << n;
+    EXPECT_TRUE(rep_found) << "representative " << light << " not in subtree of " << n;
     // Clamping's cap: the count of lights when they are all VPLs (a leaf that is not: 0).
     size_t vpls = size_t(std::count_if(leaves->begin() + ptrdiff_t(first), leaves->end(),
                                        [&](int32_t l) { return lights[size_t(l)].is_vpl; }));
     size_t count = leaves->size() - first;
     int32_t expected = vpls == count ? int32_t(count) : (node.is_leaf() ? 0 : -1);
     EXPECT_EQ(node.clampable, expected) << "node " << n;
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(node.intensity[c], total[c], 1e-4 * total[c] + 1e-6);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(tree.intensity(n)[c], total[c], 1e-4 * total[c] + 1e-6);
     // Glossy: bin by bin, the node's falloff is its lights' largest (so the node's intensity
     // times it holds the sum of theirs, and the estimate); other kinds have none.
     for (int k = 0; k < kFalloffBins; ++k) {
         if (node.kind != PointLightKind::Glossy) {
-            EXPECT_EQ(node.falloff[k], 0);
+            EXPECT_EQ(tree.falloff(n)[k], 0);
             continue;
         }
         uint8_t q = 255;
         for (size_t j = first; j < leaves->size(); ++j)
             q = std::min(q, lights[size_t((*leaves)[j])].falloff[k]);
-        EXPECT_EQ(node.falloff[k], q) << "node " << n << " bin " << k;
+        EXPECT_EQ(tree.falloff(n)[k], q) << "node " << n << " bin " << k;
     }
 }
 
@@ -131,7 +135,7 @@ TEST(LightTree, EmptyAndSingle) {
     int32_t r = t.root(PointLightKind::Oriented);
     ASSERT_GE(r, 0);
     EXPECT_TRUE(t.node(r).is_leaf());
-    EXPECT_EQ(t.node(r).light, 0);
+    EXPECT_EQ(t.light(r), 0);
 }
 
 TEST(LightTree, InvariantsEachKind) {
@@ -165,12 +169,11 @@ TEST(LightTree, Deterministic) {
     opts.seed = 42;
     LightTree a(lights, opts), b(lights, opts);
     ASSERT_EQ(a.node_count(), b.node_count());
-    for (size_t i = 0; i < a.node_count(); ++i) {
-        const LightTreeNode &x = a.nodes()[i], &y = b.nodes()[i];
-        ASSERT_EQ(x.light, y.light);
-        ASSERT_EQ(x.children[0], y.children[0]);
-        ASSERT_EQ(x.children[1], y.children[1]);
-        ASSERT_EQ(x.intensity, y.intensity);
+    for (int32_t i = 0; i < int32_t(a.node_count()); ++i) {
+        const LightTreeNode &x = a.node(i), &y = b.node(i);
+        ASSERT_EQ(a.light(i), b.light(i));
+        ASSERT_EQ(x.children(), y.children());
+        ASSERT_EQ(a.intensity(i), b.intensity(i));
         ASSERT_EQ(x.cone.axis, y.cone.axis);
         ASSERT_EQ(x.cone.cos_theta, y.cone.cos_theta);
     }
@@ -188,7 +191,7 @@ TEST(LightTree, RepresentativeProportionalToIntensity) {
         LightTreeOptions opts;
         opts.seed = uint64_t(s);
         LightTree t(lights, opts);
-        bright += t.node(t.root(PointLightKind::Omni)).light == 1;
+        bright += t.light(t.root(PointLightKind::Omni)) == 1;
     }
     // Binomial sd: sqrt(4000 * 0.75 * 0.25) = 27.
     EXPECT_NEAR(bright, 0.75 * trials, 5 * 27.4);
@@ -209,13 +212,13 @@ TEST(LightTree, RepresentativesPerSample) {
         LightTree t(lights, opts);
         for (int32_t i = 0; i < int32_t(t.node_count()); ++i) {
             const LightTreeNode& n = t.node(i);
-            ASSERT_EQ(t.rep(i, 0), n.light);
+            ASSERT_EQ(t.rep(i, 0), t.light(i));
             for (int k = 0; k < kLightTreeReps; ++k) {
                 if (n.is_leaf()) {
-                    ASSERT_EQ(t.rep(i, k), n.light);
+                    ASSERT_EQ(t.rep(i, k), t.light(i));
                 } else {
                     int32_t r = t.rep(i, k);
-                    ASSERT_TRUE(r == t.rep(n.children[0], k) || r == t.rep(n.children[1], k));
+                    ASSERT_TRUE(r == t.rep(n.children()[0], k) || r == t.rep(n.children()[1], k));
                 }
             }
         }
@@ -244,23 +247,38 @@ TEST(LightTree, MetricPrefersCloseAndAligned) {
               light_cluster_metric(1, small, 0.5f, 1, true));
 }
 
+// The hot nodes are cache lines: each starts one (the cut reads one line per node), and the
+// side arrays hold the same node count.
+TEST(LightTree, HotNodesAreCacheLines) {
+    std::vector<PointLight> lights = random_lights(1000, LightMix::Mixed, 13);
+    LightTree tree(lights);
+    for (int32_t i = 0; i < int32_t(tree.node_count()); ++i)
+        ASSERT_EQ(reinterpret_cast<uintptr_t>(&tree.node(i)) % 64, 0u) << "node " << i;
+    EXPECT_EQ(tree.node_count(), 2 * lights.size() - 3);
+    int32_t last = int32_t(tree.node_count()) - 1;
+    EXPECT_GE(tree.light(last), 0);
+    EXPECT_GE(tree.rep(last, kLightTreeReps - 1), 0);
+}
+
 TEST(LightTree, Builds100kLights) {
     std::vector<PointLight> lights = random_lights(100000, LightMix::Mixed, 11);
     LightTree tree(lights);
     std::vector<int> seen(lights.size(), 0);
-    for (const LightTreeNode& n : tree.nodes())
-        if (n.is_leaf()) seen[size_t(n.light)]++;
+    for (int32_t i = 0; i < int32_t(tree.node_count()); ++i)
+        if (tree.node(i).is_leaf()) seen[size_t(tree.light(i))]++;
     for (size_t i = 0; i < lights.size(); ++i) ASSERT_EQ(seen[i], 1);
     // Cluster quality: nodes near the leaves are small (Morton order plus the metric keep them
     // local), far below the scene's extent of 20.
     double sum_diag = 0;
     int count = 0;
-    for (const LightTreeNode& n : tree.nodes())
-        if (!n.is_leaf() && n.kind == PointLightKind::Omni && tree.node(n.children[0]).is_leaf() &&
-            tree.node(n.children[1]).is_leaf()) {
+    for (int32_t i = 0; i < int32_t(tree.node_count()); ++i) {
+        const LightTreeNode& n = tree.node(i);
+        if (!n.is_leaf() && n.kind == PointLightKind::Omni &&
+            tree.node(n.children()[0]).is_leaf() && tree.node(n.children()[1]).is_leaf()) {
             sum_diag += length(n.bounds.diagonal());
             ++count;
         }
+    }
     ASSERT_GT(count, 0);
     EXPECT_LT(sum_diag / count, 1.0);
 }

@@ -256,7 +256,7 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
             if (p.light < 0) continue;
             int depth = int(rng.next_float() * 14);
             for (int d = 0; d < depth && !tree.node(p.light).is_leaf(); ++d)
-                p.light = tree.node(p.light).children[rng.next_float() < 0.5f ? 0 : 1];
+                p.light = tree.node(p.light).children()[rng.next_float() < 0.5f ? 0 : 1];
             pairs.push_back(p);
         }
         for (const ProductPair& p : pairs) {

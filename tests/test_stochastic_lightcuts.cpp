@@ -42,13 +42,13 @@ void leaf_pmfs(const LightTree& tree, const ClusterSampler& sampler, int32_t nod
                const ClusterView& view, double p, std::vector<double>* out) {
     const LightTreeNode& n = tree.node(node);
     if (n.is_leaf()) {
-        (*out)[size_t(n.light)] += p;
+        (*out)[size_t(tree.light(node))] += p;
         return;
     }
     float p0 = sampler.first_child_probability(node, view);
     if (p0 < 0) return;
-    leaf_pmfs(tree, sampler, n.children[0], view, p * p0, out);
-    leaf_pmfs(tree, sampler, n.children[1], view, p * (1 - p0), out);
+    leaf_pmfs(tree, sampler, n.children()[0], view, p * p0, out);
+    leaf_pmfs(tree, sampler, n.children()[1], view, p * (1 - p0), out);
 }
 
 // Whether light `pl` can give the point any light: it lies on the receiver's side (either side
@@ -79,7 +79,7 @@ TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
             int32_t root = tree.root(kind);
             ASSERT_GE(root, 0);
             auto below = [&](int32_t i, int k) {
-                return tree.node(i).is_leaf() ? i : tree.node(i).children[k];
+                return tree.node(i).is_leaf() ? i : tree.node(i).children()[size_t(k)];
             };
             for (int32_t node : {root, below(root, 0), below(below(root, 1), 1)}) {
                 std::vector<double> pmf(lights.size(), 0.0), observed(lights.size(), 0.0);
@@ -96,14 +96,14 @@ TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
                 std::vector<int32_t> stack = {node};
                 while (!stack.empty()) {
                     const LightTreeNode& m = tree.node(stack.back());
+                    int32_t light = tree.light(stack.back());
                     stack.pop_back();
                     if (!m.is_leaf()) {
-                        stack.insert(stack.end(), {m.children[0], m.children[1]});
+                        stack.insert(stack.end(), {m.children()[0], m.children()[1]});
                         continue;
                     }
-                    if (can_light(lights[size_t(m.light)], view)) {
-                        EXPECT_GT(pmf[size_t(m.light)], 0)
-                            << "light " << m.light << " node " << node;
+                    if (can_light(lights[size_t(light)], view)) {
+                        EXPECT_GT(pmf[size_t(light)], 0) << "light " << light << " node " << node;
                     }
                 }
                 double failed = 0;

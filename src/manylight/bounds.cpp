@@ -71,14 +71,15 @@ float cos_of_difference(AngleCS a, float cos_b) {
 
 }  // namespace
 
-float emitter_cos_bound(const LightTreeNode& node, const Vec3& x) {
+float emitter_cos_bound(LightNodeRef ref, const Vec3& x) {
+    const LightTreeNode& node = ref.node;
     if (node.kind == PointLightKind::Omni || node.kind == PointLightKind::Directional) return 1;
     if (node.kind == PointLightKind::Glossy) {
         // The smallest angle between a lobe axis and a direction from the box to x picks the
         // falloff bin (cos_of_difference stops at a right angle: the bins end below it).
         float c = cos_of_difference(min_angle_to_box(-node.cone.axis, node.bounds, x),
                                     node.cone.cos_theta);
-        return falloff_bound(node.falloff, c);
+        return falloff_bound(ref.falloff, c);
     }
     // Oriented: the emitter's cosine between a normal of the cone and a direction from a point
     // of the box to x. Those directions lie in the reversed cone subtended by the box at x, so
@@ -89,13 +90,14 @@ float emitter_cos_bound(const LightTreeNode& node, const Vec3& x) {
                              node.cone.cos_theta);
 }
 
-float geometric_bound(const LightTreeNode& node, const Vec3& x) {
+float geometric_bound(LightNodeRef ref, const Vec3& x) {
+    const LightTreeNode& node = ref.node;
     if (node.kind == PointLightKind::Directional) return 1;
     float d2 = min_distance_squared(node.bounds, x);
     if (!(d2 > 0)) return kInfinity;
     float falloff = 1 / d2;
     if (node.kind == PointLightKind::Omni) return falloff;
-    return emitter_cos_bound(node, x) * falloff;
+    return emitter_cos_bound(ref, x) * falloff;
 }
 
 float receiver_cos_bound(const LightTreeNode& node, const Vec3& x, const Vec3& n, bool two_sided) {
@@ -115,13 +117,14 @@ float receiver_cos_bound(const LightTreeNode& node, const Vec3& x, const Vec3& n
     return two_sided ? std::max(side(n), side(-n)) : side(n);
 }
 
-RGB loose_node_bound(const LightTreeNode& node, const Vec3& x, const RGB& material_all) {
-    float gb = geometric_bound(node, x);
+RGB loose_node_bound(LightNodeRef ref, const Vec3& x, const RGB& material_all) {
+    float gb = geometric_bound(ref, x);
+    const RGB& intensity = ref.node.bound_intensity;
     RGB b;
     for (int c = 0; c < 3; ++c)
-        b[c] = (gb == 0 || material_all[c] == 0 || node.bound_intensity[c] == 0)
+        b[c] = (gb == 0 || material_all[c] == 0 || intensity[c] == 0)
                    ? 0.f
-                   : material_all[c] * gb * node.bound_intensity[c];
+                   : material_all[c] * gb * intensity[c];
     return b;
 }
 
@@ -141,12 +144,12 @@ RGB material_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, c
     return bsdf.max_value_bound(wo, node_direction_cone(node, x));
 }
 
-RGB node_error_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo) {
-    const RGB& intensity = node.bound_intensity;
+RGB node_error_bound(LightNodeRef ref, const Vec3& x, const Bsdf& bsdf, const Vec3& wo) {
+    const RGB& intensity = ref.node.bound_intensity;
     if (intensity.is_black()) return RGB();
-    float g = geometric_bound(node, x);
+    float g = geometric_bound(ref, x);
     if (g == 0) return RGB();
-    RGB m = material_bound(node, x, bsdf, wo);
+    RGB m = material_bound(ref.node, x, bsdf, wo);
     RGB out;
     // 0 * infinity is 0 here: a channel the BSDF or the lights do not carry has no error.
     for (int c = 0; c < 3; ++c) {

@@ -22,12 +22,12 @@ namespace ml {
 // Upper bound of G over the node's lights at x (the 1/d^2 falloff, times the emitter's cosine
 // for oriented lights and the falloff for glossy ones; 1 for directional lights). +infinity when
 // x is inside the node's box.
-float geometric_bound(const LightTreeNode& node, const Vec3& x);
+float geometric_bound(LightNodeRef ref, const Vec3& x);
 
 // The emitters' part of geometric_bound: an upper bound over the node's lights of the
 // emitter's cosine (oriented) or falloff (glossy) towards x; 1 for omni and directional lights.
 // x inside the node's box is fine (the bound is then usually 1).
-float emitter_cos_bound(const LightTreeNode& node, const Vec3& x);
+float emitter_cos_bound(LightNodeRef ref, const Vec3& x);
 
 // An upper bound of |cos(n, wi)| over the directions wi from x towards the node's lights, on n's
 // side only (two_sided false: a surface that only reflects, n facing the viewer) or on both.
@@ -37,7 +37,7 @@ float receiver_cos_bound(const LightTreeNode& node, const Vec3& x, const Vec3& n
 // The cheap bound a cut starts a node with: material_all (the BSDF's bound over every direction
 // at x) times geometric_bound times the node's bound_intensity, channel by channel, with
 // 0 * infinity taken as 0. Zero only when none of the node's lights can give x light.
-RGB loose_node_bound(const LightTreeNode& node, const Vec3& x, const RGB& material_all);
+RGB loose_node_bound(LightNodeRef ref, const Vec3& x, const RGB& material_all);
 
 // The cone of directions from x towards the node's lights (the incident directions wi the
 // material bound ranges over): towards the box for omni and oriented lights, the reverse of the
@@ -53,6 +53,6 @@ RGB material_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, c
 // by any of its representatives (light_tree.h) alike. Zero when the node is dark or the BSDF cannot
 // see it; may be +infinity (x inside the box, or a rough dielectric's transmission, see
 // bxdf_bounds.cpp).
-RGB node_error_bound(const LightTreeNode& node, const Vec3& x, const Bsdf& bsdf, const Vec3& wo);
+RGB node_error_bound(LightNodeRef ref, const Vec3& x, const Bsdf& bsdf, const Vec3& wo);
 
 }  // namespace ml

@@ -14,10 +14,10 @@ namespace {
 // The light BVH's bounds of a node: the cone of normals of oriented lights emits a cosine lobe
 // (theta_e = pi / 2); omni and glossy lights count as emitting every way (a glossy light's
 // falloff is not a cone).
-LightBounds importance_bounds(const LightTreeNode& n) {
+LightBounds importance_bounds(const LightTreeNode& n, float weight) {
     LightBounds b;
     b.box = n.bounds;
-    b.phi = n.weight;
+    b.phi = weight;
     if (n.kind == PointLightKind::Oriented) {
         b.w = n.cone.axis;
         b.cos_theta_o = n.cone.cos_theta;
@@ -36,21 +36,22 @@ ClusterSampler::ClusterSampler(const LightTree& tree) : m_nodes(tree.node_count(
         const LightTreeNode& n = tree.node(int32_t(i));
         Node& d = m_nodes[i];
         d.directional = n.kind == PointLightKind::Directional;
-        if (!d.directional) d.bounds = ImportanceBounds(importance_bounds(n));
-        d.children[0] = n.children[0];
-        d.children[1] = n.children[1];
-        d.light = n.light;
+        if (!d.directional)
+            d.bounds = ImportanceBounds(importance_bounds(n, tree.weight(int32_t(i))));
+        d.children[0] = n.children()[0];
+        d.children[1] = n.children()[1];
+        d.light = tree.light(int32_t(i));
     });
 }
 
 float ClusterSampler::importance(int32_t i, const ClusterView& view) const {
     const Node& d = m_nodes[size_t(i)];
     if (!d.directional) return d.bounds.importance(view.x, view.n);
-    const LightTreeNode& n = m_tree->node(i);
-    if (!(n.weight > 0)) return 0;
-    float receiver = receiver_cos_bound(n, view.x, view.n, view.two_sided);
+    float weight = m_tree->weight(i);
+    if (!(weight > 0)) return 0;
+    float receiver = receiver_cos_bound(m_tree->node(i), view.x, view.n, view.two_sided);
     // Never 0 for a node that can give light, even where the product underflows.
-    return receiver > 0 ? std::max(n.weight * receiver, std::numeric_limits<float>::min()) : 0.f;
+    return receiver > 0 ? std::max(weight * receiver, std::numeric_limits<float>::min()) : 0.f;
 }
 
 float ClusterSampler::first_child_probability(int32_t i, const ClusterView& view) const {

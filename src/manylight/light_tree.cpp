@@ -101,59 +101,36 @@ struct PairCost {
     }
 };
 
+// A node while the tree is built, every field but the representatives together (lay_out splits
+// them into the hot nodes and the side arrays).
+struct BuildNode {
+    Bounds3 bounds;
+    DirectionCone cone;
+    RGB intensity;
+    float weight = 0;
+    RGB bound_intensity;
+    int32_t children[2] = {-1, -1};
+    PointLightKind kind = PointLightKind::Omni;
+    int32_t clampable = 0;
+    uint8_t falloff[kFalloffBins] = {};
+
+    bool is_leaf() const { return children[0] < 0; }
+};
+
 }  // namespace
 
-LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptions& opts)
-    : m_light_count(lights.size()) {
-    // A binary tree over n leaves has 2n - 1 nodes: reserve them all so that no build step
-    // reallocates under parallel writers.
-    m_nodes.reserve(2 * lights.size());
-    for (PointLightKind kind : kAllPointLightKinds) build_kind(lights, kind, opts);
-    order_depth_first();
-}
+namespace detail {
+struct LightTreeBuild {
+    std::vector<BuildNode> nodes;
+    std::vector<int32_t> reps;  // kLightTreeReps per node
+    std::vector<RGB> chroma;    // per node: its lights' largest I_c / w_i
+};
+}  // namespace detail
 
-// Cuts are refined from the roots down, so nodes laid out depth-first, each pair of children
-// side by side, are read from memory mostly in order rather than all over a large array.
-void LightTree::order_depth_first() {
-    std::vector<LightTreeNode> ordered;
-    ordered.reserve(m_nodes.size());
-    std::vector<int32_t> old_of_new;  // the old index of each new node, for the representatives
-    old_of_new.reserve(m_nodes.size());
-    std::vector<std::pair<int32_t, int32_t>> stack;  // (old index, new index already taken)
-    for (int32_t& root : m_roots) {
-        if (root < 0) continue;
-        ordered.push_back(m_nodes[size_t(root)]);
-        old_of_new.push_back(root);
-        int32_t new_root = int32_t(ordered.size() - 1);
-        stack.push_back({root, new_root});
-        root = new_root;
-        while (!stack.empty()) {
-            auto [old_index, new_index] = stack.back();
-            stack.pop_back();
-            const LightTreeNode& old_node = m_nodes[size_t(old_index)];
-            if (old_node.is_leaf()) continue;
-            int32_t first = int32_t(ordered.size());
-            for (int k = 0; k < 2; ++k) {
-                ordered.push_back(m_nodes[size_t(old_node.children[k])]);
-                old_of_new.push_back(old_node.children[k]);
-            }
-            for (int k = 0; k < 2; ++k) {
-                ordered[size_t(new_index)].children[k] = first + k;
-                stack.push_back({old_node.children[k], first + k});
-            }
-        }
-    }
-    m_nodes = std::move(ordered);
-    // The representatives move into their nodes: a cut reads them with the node's bounds.
-    for (size_t i = 0; i < old_of_new.size(); ++i)
-        std::copy_n(m_reps.begin() + ptrdiff_t(size_t(old_of_new[i]) * kLightTreeReps),
-                    kLightTreeReps, m_nodes[i].reps);
-    m_reps = {};
-    m_chroma = {};
-}
+namespace {
 
-void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
-                           const LightTreeOptions& opts) {
+int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>& lights,
+                   PointLightKind kind, const LightTreeOptions& opts) {
     const bool directional = kind == PointLightKind::Directional;
     const bool has_cone = kind != PointLightKind::Omni;
 
@@ -166,7 +143,7 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             ids.push_back(int32_t(i));
             all.expand(lights[i].p);
         }
-    if (ids.empty()) return;
+    if (ids.empty()) return -1;
     size_t n = ids.size();
     float c = 0;
     // Walter et al. weigh the cone's angle by half the scene's size (seed 004: "half the
@@ -200,23 +177,23 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
     parallel_sort(keys.begin(), keys.end());
 
     // 2. One leaf per light, in Morton order.
-    const size_t base = m_nodes.size();
-    m_nodes.resize(base + n);
-    m_reps.resize(m_nodes.size() * kLightTreeReps);
-    m_chroma.resize(m_nodes.size());
+    const size_t base = build.nodes.size();
+    build.nodes.resize(base + n);
+    build.reps.resize(build.nodes.size() * kLightTreeReps);
+    build.chroma.resize(build.nodes.size());
     Clusters cl;
     cl.resize(n);
     parallel_for(size_t(0), n, [&](size_t k) {
         const PointLight& pl = lights[size_t(keys[k].second)];
-        LightTreeNode& node = m_nodes[base + k];
+        BuildNode& node = build.nodes[base + k];
         node.kind = kind;
-        node.light = keys[k].second;
-        std::fill_n(m_reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
-                    node.light);
+        // A leaf's representatives are all its light.
+        std::fill_n(build.reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
+                    keys[k].second);
         node.intensity = pl.intensity;
         node.weight = selection_weight(pl.intensity);
         node.bound_intensity = pl.intensity;  // the light's own value is exact
-        RGB& chroma = m_chroma[base + k];
+        RGB& chroma = build.chroma[base + k];
         for (int c = 0; c < 3; ++c)
             chroma[c] = node.weight > 0 ? pl.intensity[c] / node.weight : 0.f;
         node.clampable = pl.is_vpl ? 1 : 0;
@@ -279,10 +256,10 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             for (size_t i = 0; i < m; ++i) next_pos[i] = i == 1 ? -1 : int32_t(kept++);
         }
 
-        size_t first_new = m_nodes.size();
-        m_nodes.resize(first_new + merges);
-        m_reps.resize(m_nodes.size() * kLightTreeReps);
-        m_chroma.resize(m_nodes.size());
+        size_t first_new = build.nodes.size();
+        build.nodes.resize(first_new + merges);
+        build.reps.resize(build.nodes.size() * kLightTreeReps);
+        build.chroma.resize(build.nodes.size());
         next.resize(kept);
         parallel_for(size_t(0), m, [&](size_t i) {
             if (next_pos[i] < 0) return;
@@ -294,8 +271,8 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             }
             size_t id = first_new + size_t(new_id[i]);
             int32_t a = cl.node[i], b = cl.node[size_t(best[i])];
-            const LightTreeNode &na = m_nodes[size_t(a)], &nb = m_nodes[size_t(b)];
-            LightTreeNode node;
+            const BuildNode &na = build.nodes[size_t(a)], &nb = build.nodes[size_t(b)];
+            BuildNode node;
             node.kind = kind;
             node.children[0] = a, node.children[1] = b;
             node.intensity = na.intensity + nb.intensity;
@@ -303,10 +280,10 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             // Every light's I_c / w_i is at most the node's chroma_c, so both the sum of the
             // intensities and any representative's I_rep weight / w_rep are at most weight
             // chroma_c; the margin covers float rounding in the estimate and the bound.
-            RGB& chroma = m_chroma[id];
-            chroma = RGB(std::max(m_chroma[size_t(a)].r, m_chroma[size_t(b)].r),
-                         std::max(m_chroma[size_t(a)].g, m_chroma[size_t(b)].g),
-                         std::max(m_chroma[size_t(a)].b, m_chroma[size_t(b)].b));
+            RGB& chroma = build.chroma[id];
+            chroma = RGB(std::max(build.chroma[size_t(a)].r, build.chroma[size_t(b)].r),
+                         std::max(build.chroma[size_t(a)].g, build.chroma[size_t(b)].g),
+                         std::max(build.chroma[size_t(a)].b, build.chroma[size_t(b)].b));
             for (int c = 0; c < 3; ++c)
                 node.bound_intensity[c] =
                     std::max(node.intensity[c], node.weight * chroma[c] * (1 + 1e-5f));
@@ -325,20 +302,88 @@ void LightTree::build_kind(const std::vector<PointLight>& lights, PointLightKind
             // very weights stored in the nodes, which the estimate's scale uses.
             Rng rng(hash_ints(opts.seed, uint64_t(kind), id));
             float u = rng.next_float();
-            int32_t* reps = &m_reps[id * kLightTreeReps];
+            int32_t* reps = &build.reps[id * kLightTreeReps];
             for (int k = 0; k < kLightTreeReps; ++k) {
                 if (k > 0) u = rng.next_float();
                 bool pick_a = node.weight > 0 ? u * node.weight < na.weight : u < 0.5f;
-                reps[k] = m_reps[size_t(pick_a ? a : b) * kLightTreeReps + size_t(k)];
+                reps[k] = build.reps[size_t(pick_a ? a : b) * kLightTreeReps + size_t(k)];
             }
-            node.light = reps[0];
-            m_nodes[id] = node;
+            build.nodes[id] = node;
             next.node[p] = int32_t(id), next.box[p] = node.bounds, next.axis[p] = node.cone.axis;
             next.theta[p] = cone_angle(node.cone), next.lum[p] = node.weight;
         });
         std::swap(cl, next);
     }
-    m_roots[int(kind)] = cl.node[0];
+    return cl.node[0];
+}
+
+}  // namespace
+
+LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptions& opts)
+    : m_light_count(lights.size()) {
+    // A binary tree over n leaves has 2n - 1 nodes: reserve them all so that no build step
+    // reallocates under parallel writers.
+    detail::LightTreeBuild build;
+    build.nodes.reserve(2 * lights.size());
+    for (PointLightKind kind : kAllPointLightKinds)
+        m_roots[int(kind)] = build_kind(build, lights, kind, opts);
+    lay_out(build);
+}
+
+// Cuts are refined from the roots down, so nodes laid out depth-first, each pair of children
+// side by side, are read from memory mostly in order rather than all over a large array. The
+// built nodes split here into the hot nodes and the side arrays.
+void LightTree::lay_out(detail::LightTreeBuild& build) {
+    const std::vector<BuildNode>& built = build.nodes;
+    // 1. The order: the old index of each new node, and each new node's first child.
+    std::vector<int32_t> old_of_new, first_child;
+    old_of_new.reserve(built.size());
+    first_child.reserve(built.size());
+    std::vector<std::pair<int32_t, int32_t>> stack;  // (old index, new index already taken)
+    for (int32_t& root : m_roots) {
+        if (root < 0) continue;
+        old_of_new.push_back(root);
+        first_child.push_back(-1);
+        int32_t new_root = int32_t(old_of_new.size() - 1);
+        stack.push_back({root, new_root});
+        root = new_root;
+        while (!stack.empty()) {
+            auto [old_index, new_index] = stack.back();
+            stack.pop_back();
+            const BuildNode& old_node = built[size_t(old_index)];
+            if (old_node.is_leaf()) continue;
+            int32_t first = int32_t(old_of_new.size());
+            for (int k = 0; k < 2; ++k) {
+                old_of_new.push_back(old_node.children[k]);
+                first_child.push_back(-1);
+            }
+            first_child[size_t(new_index)] = first;
+            for (int k = 0; k < 2; ++k) stack.push_back({old_node.children[k], first + k});
+        }
+    }
+    // 2. The hot nodes and the side arrays in that order.
+    const size_t n = old_of_new.size();
+    m_nodes.resize(n);
+    m_reps.resize(n * kLightTreeReps);
+    m_weight.resize(n);
+    m_intensity.resize(n);
+    m_falloff.resize(n);
+    parallel_for(size_t(0), n, [&](size_t i) {
+        size_t old = size_t(old_of_new[i]);
+        const BuildNode& b = built[old];
+        LightTreeNode& hot = m_nodes[i];
+        hot.bounds = b.bounds;
+        hot.cone = b.cone;
+        hot.bound_intensity = b.bound_intensity;
+        hot.first_child = first_child[i];
+        hot.clampable = b.clampable;
+        hot.kind = b.kind;
+        for (int k = 0; k < kLightTreeReps; ++k)
+            m_reps[size_t(k) * n + i] = build.reps[old * kLightTreeReps + size_t(k)];
+        m_weight[i] = b.weight;
+        m_intensity[i] = b.intensity;
+        std::copy_n(b.falloff, kFalloffBins, m_falloff[i].begin());
+    });
 }
 
 }  // namespace ml

@@ -8,6 +8,7 @@
 // Lightcuts metric I * (alpha^2 + c^2 (1 - cos beta)^2), in O(N log N).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -22,34 +23,48 @@ namespace ml {
 // probability proportional to their selection weight (representative.h: the intensity's
 // luminance), independently for each k, so a gather point that shades with rep k (k drawn from
 // its sampler) makes an error of zero mean in every channel, and the samples of a pixel make
-// independent errors that average out (rep 0 is the node's `light`).
+// independent errors that average out (rep 0 is LightTree::light).
 constexpr int kLightTreeReps = 8;
 
-struct LightTreeNode {
+// The hot part of a node: what a cut's bounds (bounds.h) and refinement read at every node it
+// visits, in one cache line. What only a node whose estimate is made needs (its weight and
+// representatives), or only some kinds and users (intensity, falloff), lives in the tree's side
+// arrays, indexed by node (LightTree's accessors), so that a cut's walk through a large tree
+// pulls one line per node rather than two or three (bench/RESULTS.md, "Issue 13, session 10").
+struct alignas(64) LightTreeNode {
     Bounds3 bounds;  // positions of the node's lights (directional lights: unused, empty)
     DirectionCone
-        cone;       // oriented, glossy: lobe axes; directional: travel directions; omni: the sphere
-    RGB intensity;  // sum of the lights' intensities
-    // Sum of the lights' selection weights: rep k is light i with probability w_i / weight, and
-    // stands for the node scaled by weight / w_i (representative.h).
-    float weight = 0;
-    // Channel by channel, at least both `intensity` and any representative's intensity scaled
-    // to the node (I_rep weight / w_rep): weight times the lights' largest I_c / w_i. Bounds
-    // built on it (bounds.h) hold the exact sum and every possible estimate alike, so they do not
-    // depend on which representative was drawn. Equal to `intensity` where the lights share one
-    // colour; larger where they mix colours, as the estimate's spread is.
+        cone;  // oriented, glossy: lobe axes; directional: travel directions; omni: the sphere
+    // Channel by channel, at least both the sum of the lights' intensities and any
+    // representative's intensity scaled to the node (I_rep weight / w_rep): weight times the
+    // lights' largest I_c / w_i. Bounds built on it (bounds.h) hold the exact sum and every
+    // possible estimate alike, so they do not depend on which representative was drawn. Equal
+    // to the intensity where the lights share one colour; larger where they mix colours, as
+    // the estimate's spread is.
     RGB bound_intensity;
-    int32_t children[2] = {-1, -1};  // node indices; both -1 for a leaf
-    int32_t light = -1;  // the representative light (a leaf: its light), index into the lights
-    PointLightKind kind = PointLightKind::Omni;
+    // The children are first_child and first_child + 1 (the tree is laid out with siblings
+    // side by side); -1 for a leaf.
+    int32_t first_child = -1;
     // How many lights the node holds when they are all VPLs, whose contributions vpl.clamp caps
     // (so the node's is at most this many times the clamp); 0 for a leaf that is not a VPL, -1
     // for a cluster with one.
     int32_t clampable = 0;
-    int32_t reps[kLightTreeReps] = {};   // representatives per sample (reps[0] == light)
-    uint8_t falloff[kFalloffBins] = {};  // glossy: the largest falloff of its lights, bin by bin
+    PointLightKind kind = PointLightKind::Omni;
 
-    bool is_leaf() const { return children[0] < 0; }
+    bool is_leaf() const { return first_child < 0; }
+    // Both children's indices ({-1, -1} for a leaf).
+    std::array<int32_t, 2> children() const {
+        return is_leaf() ? std::array<int32_t, 2>{-1, -1}
+                         : std::array<int32_t, 2>{first_child, first_child + 1};
+    }
+};
+static_assert(sizeof(LightTreeNode) == 64, "a light-tree node's hot part is one cache line");
+
+// A node as the bounds of bounds.h read it: its hot part and its falloff table (kFalloffBins
+// entries from the tree's side array, read for glossy nodes only).
+struct LightNodeRef {
+    const LightTreeNode& node;
+    const uint8_t* falloff;
 };
 
 struct LightTreeOptions {
@@ -60,6 +75,10 @@ struct LightTreeOptions {
     int window_radius = 16;  // PLOC's search radius (neighbours on each side)
 };
 
+namespace detail {
+struct LightTreeBuild;  // the nodes while they are built (light_tree.cpp)
+}
+
 class LightTree {
 public:
     LightTree() = default;
@@ -67,21 +86,32 @@ public:
 
     // Root node of the tree of one kind, or -1 when there is no light of that kind.
     int32_t root(PointLightKind kind) const { return m_roots[int(kind)]; }
-    // Representative k (0 <= k < kLightTreeReps) of node i; 0 is node(i).light.
-    int32_t rep(int32_t i, int k) const { return m_nodes[size_t(i)].reps[k]; }
     const LightTreeNode& node(int32_t i) const { return m_nodes[size_t(i)]; }
-    const std::vector<LightTreeNode>& nodes() const { return m_nodes; }
+    LightNodeRef ref(int32_t i) const { return {m_nodes[size_t(i)], falloff(i)}; }
+    // Representative k (0 <= k < kLightTreeReps) of node i; 0 is light(i). Stored k by k, so a
+    // cut, which reads one k throughout, finds siblings' side by side.
+    int32_t rep(int32_t i, int k) const { return m_reps[size_t(k) * m_nodes.size() + size_t(i)]; }
+    // The node's representative light (a leaf: its light), an index into the lights.
+    int32_t light(int32_t i) const { return rep(i, 0); }
+    // Sum of the lights' selection weights: rep k is light i with probability w_i / weight, and
+    // stands for the node scaled by weight / w_i (representative.h).
+    float weight(int32_t i) const { return m_weight[size_t(i)]; }
+    // Sum of the lights' intensities.
+    const RGB& intensity(int32_t i) const { return m_intensity[size_t(i)]; }
+    // Glossy: the largest falloff of the node's lights, bin by bin (kFalloffBins entries).
+    const uint8_t* falloff(int32_t i) const { return m_falloff[size_t(i)].data(); }
     size_t node_count() const { return m_nodes.size(); }
     size_t light_count() const { return m_light_count; }
 
 private:
-    void build_kind(const std::vector<PointLight>& lights, PointLightKind kind,
-                    const LightTreeOptions& opts);
-    void order_depth_first();
+    void lay_out(detail::LightTreeBuild& build);
 
-    std::vector<LightTreeNode> m_nodes;
-    std::vector<int32_t> m_reps;  // kLightTreeReps per node while building (then in the nodes)
-    std::vector<RGB> m_chroma;    // per node while building: its lights' largest I_c / w_i
+    std::vector<LightTreeNode> m_nodes;  // depth-first, siblings side by side
+    // Side arrays, per node.
+    std::vector<int32_t> m_reps;  // kLightTreeReps planes of node_count() entries
+    std::vector<float> m_weight;
+    std::vector<RGB> m_intensity;
+    std::vector<std::array<uint8_t, kFalloffBins>> m_falloff;
     int32_t m_roots[kPointLightKinds] = {-1, -1, -1, -1};
     size_t m_light_count = 0;
 };

@@ -98,7 +98,7 @@ RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
 RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                             int32_t gather, int32_t light) const {
     const GatherTreeNode& G = gtree.node(gather);
-    const LightTreeNode& L = m_tree.node(light);
+    LightNodeRef L = m_tree.ref(light);
     RGB b;
     for (int32_t m = G.begin; m < G.end; ++m) {
         const WeightedGatherPoint& p = points[size_t(gtree.members()[size_t(m)])];
@@ -141,7 +141,7 @@ RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points, cons
     RGB b;
     LightTreeNode grown = grown_node(L, G.bounds);
     Vec3 x = G.bounds.center();
-    float gb = geometric_bound(grown, x);
+    float gb = geometric_bound({grown, m_tree.falloff(light)}, x);
     if (gb == 0) return b;
     RGB m = m_material_strength[size_t(gather)];
     DirectionCone cone = node_direction_cone(grown, x);
@@ -178,8 +178,8 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
     float scale = gp.a;
     if (!G.is_leaf()) scale *= representative_scale(G.weight, selection_weight(gp.w));
     if (!L.is_leaf())
-        scale *=
-            representative_scale(L.weight, selection_weight(m_set.lights[size_t(lrep)].intensity));
+        scale *= representative_scale(m_tree.weight(light),
+                                      selection_weight(m_set.lights[size_t(lrep)].intensity));
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
     p.bound =
@@ -241,10 +241,12 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
     // representatives are always one of their children's.
     auto split = [&](const ProductPair& p, size_t slot) {
         bool gather_side = split_gather(gtree, p);
-        const int32_t* children =
-            gather_side ? gtree.node(p.gather).children : m_tree.node(p.light).children;
+        const GatherTreeNode& G = gtree.node(p.gather);
+        std::array<int32_t, 2> children = gather_side
+                                              ? std::array<int32_t, 2>{G.children[0], G.children[1]}
+                                              : m_tree.node(p.light).children();
         for (int c = 0; c < 2; ++c) {
-            int32_t child = children[c];
+            int32_t child = children[size_t(c)];
             ProductPair q;
             if (gather_side) {
                 int32_t r = gtree.rep(child, uint32_t(p.lrep));
@@ -338,12 +340,13 @@ RGB ProductCut::exact(const std::vector<WeightedGatherPoint>& points, const Gath
         const WeightedGatherPoint& p = points[size_t(gtree.members()[size_t(m)])];
         stack.assign(1, light);
         while (!stack.empty()) {
-            const LightTreeNode& n = m_tree.node(stack.back());
+            int32_t n = stack.back();
             stack.pop_back();
-            if (n.is_leaf())
-                sum += p.a * value(p, n.light);
+            if (m_tree.node(n).is_leaf())
+                sum += p.a * value(p, m_tree.light(n));
             else
-                stack.insert(stack.end(), {n.children[0], n.children[1]});
+                stack.insert(stack.end(),
+                             {m_tree.node(n).children()[0], m_tree.node(n).children()[1]});
         }
     }
     return sum;

@@ -231,14 +231,14 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             int32_t n = stack.back();
             const LightTreeNode& L = m_tree.node(n);
             if (L.is_leaf()) {
-                node_flux[size_t(n)] = light_flux(m_set, m_set.lights[size_t(L.light)]);
-            } else if (!summed[size_t(L.children[0])] || !summed[size_t(L.children[1])]) {
-                for (int32_t c : L.children)
+                node_flux[size_t(n)] = light_flux(m_set, m_set.lights[size_t(m_tree.light(n))]);
+            } else if (!summed[size_t(L.children()[0])] || !summed[size_t(L.children()[1])]) {
+                for (int32_t c : L.children())
                     if (!summed[size_t(c)]) stack.push_back(c);
                 continue;
             } else {
                 node_flux[size_t(n)] =
-                    node_flux[size_t(L.children[0])] + node_flux[size_t(L.children[1])];
+                    node_flux[size_t(L.children()[0])] + node_flux[size_t(L.children()[1])];
             }
             summed[size_t(n)] = 1;
             stack.pop_back();

@@ -325,27 +325,30 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
     // per gather point) times its geometric bound, and its own, tighter material bound only if
     // it reaches the top of the heap still above the threshold. Most nodes of a cut never do.
     const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
-    auto loose_bound = [&](const LightTreeNode& n, const RGB& estimate) {
-        float l = error_bound(g.beta * loose_node_bound(n, x, m_all), n, estimate).luminance();
+    auto loose_bound = [&](int32_t index, const RGB& estimate) {
+        LightNodeRef n = m_tree.ref(index);
+        float l = error_bound(g.beta * loose_node_bound(n, x, m_all), n.node, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
-    auto tight_bound = [&](const LightTreeNode& n, const RGB& estimate) {
-        float l = error_bound(g.beta * node_error_bound(n, x, g.bsdf, wo), n, estimate).luminance();
+    auto tight_bound = [&](int32_t index, const RGB& estimate) {
+        LightNodeRef n = m_tree.ref(index);
+        float l =
+            error_bound(g.beta * node_error_bound(n, x, g.bsdf, wo), n.node, estimate).luminance();
         return std::isnan(l) ? kInfinity : l;
     };
     // A node stands for its cluster: the representative's value scaled by the cluster's weight
     // over its own, the same factor in every channel, which makes the expectation over the
     // representatives the exact sum whatever the lights' colours (representative.h).
     auto make_entry = [&](int32_t index, int32_t rep, const RGB& rep_value, ShadowResult shadow) {
-        const LightTreeNode& n = m_tree.node(index);
         CutEntry e{index, rep, 0.f, RGB(), rep_value, true, shadow};
-        if (n.is_leaf()) {
+        if (m_tree.node(index).is_leaf()) {
             e.estimate = rep_value;  // exact
             return e;
         }
         const PointLight& pl = m_set.lights[size_t(rep)];
-        e.estimate = rep_value * representative_scale(n.weight, selection_weight(pl.intensity));
-        e.bound = loose_bound(n, e.estimate);
+        e.estimate =
+            rep_value * representative_scale(m_tree.weight(index), selection_weight(pl.intensity));
+        e.bound = loose_bound(index, e.estimate);
         e.tight = e.bound == 0;
         return e;
     };
@@ -384,7 +387,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         heap.pop_back();
         if (!e.tight) {
             // Tighten the bound and look again: the node may no longer be the worst.
-            float b = tight_bound(m_tree.node(e.node), e.estimate);
+            float b = tight_bound(e.node, e.estimate);
             if (b < e.bound) {
                 bound_sum += b - e.bound;
                 bound_sq += b * b - e.bound * e.bound;
@@ -398,8 +401,7 @@ RGB LightcutsIntegrator::shade(const Scene& scene, const GatherPoint& g, int k, 
         total = total - e.estimate;
         bound_sum -= e.bound;
         bound_sq -= e.bound * e.bound;
-        const LightTreeNode& n = m_tree.node(e.node);
-        for (int32_t child : n.children) {
+        for (int32_t child : m_tree.node(e.node).children()) {
             // A child whose representative is the parent's reuses its shadow ray.
             int32_t rep = m_tree.rep(child, k);
             ShadowResult shadow = e.shadow;
@@ -440,19 +442,19 @@ void LightcutsIntegrator::verify_cut(const Scene& scene, const GatherPoint& g,
         RGB exact;
         stack.assign(1, e.node);
         while (!stack.empty()) {
-            const LightTreeNode& m = m_tree.node(stack.back());
+            int32_t m = stack.back();
             stack.pop_back();
-            if (!m.is_leaf()) {
-                stack.push_back(m.children[0]);
-                stack.push_back(m.children[1]);
+            if (!m_tree.node(m).is_leaf()) {
+                stack.push_back(m_tree.node(m).children()[0]);
+                stack.push_back(m_tree.node(m).children()[1]);
                 continue;
             }
-            exact +=
-                visible_point_light(scene, m_set, m_settings, m_set.lights[size_t(m.light)], g);
+            exact += visible_point_light(scene, m_set, m_settings,
+                                         m_set.lights[size_t(m_tree.light(m))], g);
         }
         exact_total += exact;
-        RGB bound =
-            error_bound(g.beta * node_error_bound(n, g.si.p, g.bsdf, g.si.wo), n, e.estimate);
+        RGB bound = error_bound(
+            g.beta * node_error_bound(m_tree.ref(e.node), g.si.p, g.bsdf, g.si.wo), n, e.estimate);
         ++nodes;
         for (int c = 0; c < 3; ++c)
             if (std::abs(e.estimate[c] - exact[c]) > bound[c] * 1.0001f + 1e-12f) {

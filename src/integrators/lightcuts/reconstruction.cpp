@@ -69,8 +69,8 @@ RGB reconstruction_cut(const Scene& scene, const PointLightSet& set,
         }
         if (!held && !n.is_leaf()) {
             // Some corner needed it finer: split (a leaf is in every cut; kept for safety).
-            stack.push_back({n.children[1], item.state});
-            stack.push_back({n.children[0], item.state});
+            stack.push_back({n.children()[1], item.state});
+            stack.push_back({n.children()[0], item.state});
             continue;
         }
         ++count;
@@ -79,7 +79,8 @@ RGB reconstruction_cut(const Scene& scene, const PointLightSet& set,
         RGB value = held && seen && !blocked ? unshadowed_point_light(set, settings, pl, g)
                                              : visible_point_light(scene, set, settings, pl, g);
         if (!n.is_leaf())
-            value = value * representative_scale(n.weight, selection_weight(pl.intensity));
+            value = value *
+                    representative_scale(tree.weight(item.node), selection_weight(pl.intensity));
         L += value;
     }
     *nodes = count;

@@ -73,11 +73,10 @@ RGB StochasticLightcutsIntegrator::shade(const Scene& scene, const GatherPoint& 
     // splits depends on it, and whether a node can give light at all (zero: left out).
     const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
     auto add = [&](int32_t index) {
-        const LightTreeNode& n = m_tree.node(index);
-        RGB b = g.beta * loose_node_bound(n, x, m_all);
+        RGB b = g.beta * loose_node_bound(m_tree.ref(index), x, m_all);
         if (b.is_black()) return;  // none of its lights can reach x through this BSDF
-        if (n.is_leaf()) {
-            singles.push_back(n.light);
+        if (m_tree.node(index).is_leaf()) {
+            singles.push_back(m_tree.light(index));
             return;
         }
         float l = b.luminance();
@@ -92,8 +91,8 @@ RGB StochasticLightcutsIntegrator::shade(const Scene& scene, const GatherPoint& 
         int32_t index = heap.back().node;
         heap.pop_back();
         const LightTreeNode& n = m_tree.node(index);
-        add(n.children[0]);
-        add(n.children[1]);
+        add(n.children()[0]);
+        add(n.children()[1]);
     }
     *cut_size = int(heap.size() + singles.size());
     auto value = [&](int32_t light) {
