@@ -87,6 +87,20 @@ TEST(CutCap, AFixedCostPerPixelCounts) {
     EXPECT_EQ(pass_samples(32, plan), 1);
 }
 
+TEST(CutCap, CutsThatOvershootTheirCapCount) {
+    // Cuts at cap 64 end at 128 pairs (the cut splits spikes past its cap): a cap c is taken as
+    // 2c pairs. 1 ms per pair, no fixed cost, whole cuts of 1000 pairs.
+    CutProbe probe;
+    probe.low_seconds = 128e-3;
+    probe.low_mean_size = 128;
+    probe.full_sizes = {1000, 1000};
+    probe.full_seconds = 1000e-3;
+    // 10 pixels in 4.005 s: 400.5 ms a pixel, 400.5 pairs, 2c <= 400.5 at c = 200.
+    CutCapPlan plan = choose_cut_cap(probe, 10, 64, 1000, 4.005);
+    EXPECT_EQ(plan.cap, 200);
+    EXPECT_NEAR(plan.capped_seconds, 4.0, 1e-6);
+}
+
 TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
     std::atomic<int> low{0}, full{0};
     CutProbe probe = probe_cuts(320, 180, 64, 1000, 1e6, [&](Point2i p, int cap) {

@@ -62,8 +62,10 @@ int pass_samples(int samples, const CutCapPlan& plan);
 // The share of the time left that a time-limited render plans its first pass to take.
 constexpr double kFirstPassTimeShare = 0.7;
 
-// Pixels the timing probe visits: a regular grid of about this many.
+// Pixels the timing probe visits: about this many, in square blocks of kCutProbeBlock on a
+// side centred on a regular grid.
 constexpr int kCutProbePixels = 256;
+constexpr int kCutProbeBlock = 4;
 // Each of the probe's two visits of the grid stops starting pixels past this share of `seconds`.
 constexpr double kCutProbeShare = 0.05;
 
@@ -78,14 +80,16 @@ struct CutProbe {
 
 // The largest cap in [lowest, max_cut] that a pass over `film_pixels` pixels is predicted to
 // finish in `seconds`: a pixel's time is taken as a + b * (its cut size), fitted to the probe's
-// two visits, and a cap c as making each probed cut min(size at max_cut, c). max_cut when the
-// full cuts fit; `lowest` when nothing does or the probe has no figure.
+// two visits, and a cap c as making each probed cut min(size at max_cut, r c), r the ratio of
+// the mean cut at `lowest` to `lowest` (a capped cut still splits spikes past its cap). max_cut
+// when the full cuts fit; `lowest` when nothing does or the probe has no figure.
 CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest, int max_cut,
                           double seconds);
 
-// Probes a sparse grid of the film (about kCutProbePixels pixels, in parallel) twice: with cap
-// `lowest` and with `max_cut`, each visit timed and stopped past kCutProbeShare of `seconds`;
-// shade(pixel, cap) shades one pixel's pass with cuts stopped at `cap` and returns the cut's size.
+// Probes blocks on a sparse grid of the film (about kCutProbePixels pixels, in parallel) twice:
+// with cap `lowest` and with `max_cut`, each visit timed and stopped past kCutProbeShare of
+// `seconds`; shade(pixel, cap) shades one pixel's pass with cuts stopped at `cap` and returns the
+// cut's size.
 CutProbe probe_cuts(int width, int height, int lowest, int max_cut, double seconds,
                     const std::function<int(Point2i pixel, int cap)>& shade);
 
