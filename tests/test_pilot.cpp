@@ -66,7 +66,7 @@ TEST(CutCap, LargestCapThatFitsTheTime) {
     // margin: 32 x 0.78125 x 0.8 = 20.
     plan = choose_cut_cap(probe, 1000, 64, 1000, 50);
     EXPECT_EQ(plan.cap, 64);
-    EXPECT_NEAR(plan.samples_scale, 50.0 / 64.0, 1e-9);
+    EXPECT_NEAR(plan.samples_scale, 0.8 * 50.0 / 64.0, 1e-9);  // no half-samples visit
     EXPECT_EQ(pass_samples(32, plan), 20);
     EXPECT_EQ(pass_samples(1, plan), 1);
 }
@@ -101,9 +101,39 @@ TEST(CutCap, CutsThatOvershootTheirCapCount) {
     EXPECT_NEAR(plan.capped_seconds, 4.0, 1e-6);
 }
 
+TEST(CutCap, FewerSamplesWhereTheLeastCutDoesNotFit) {
+    // A pixel at cap 64: 64 ms with 32 samples, 40 ms with 16 (so 1.5 ms a sample, 16 ms of
+    // cut). 100 pixels in 5.2 s: 52 ms a pixel, (52 - 16) / 1.5 = 24 samples.
+    CutProbe probe;
+    probe.low_seconds = 64e-3;
+    probe.low_mean_size = 64;
+    probe.half_seconds = 40e-3;
+    probe.full_sizes = {500, 500};
+    probe.full_seconds = 500e-3;
+    CutCapPlan plan = choose_cut_cap(probe, 100, 64, 1000, 5.2);
+    EXPECT_EQ(plan.cap, 64);
+    EXPECT_NEAR(plan.samples_scale, 0.75, 1e-9);
+    EXPECT_EQ(pass_samples(32, plan), 24);
+    // Not even the cut alone fits: one sample.
+    EXPECT_EQ(pass_samples(32, choose_cut_cap(probe, 100, 64, 1000, 1.0)), 1);
+    // The probe visits at half the samples when a pass has 2 or more.
+    std::atomic<int> half{0}, calls{0};
+    probe = probe_cuts(64, 64, 64, 1000, 8, 1e6, [&](Point2i, int cap, int samples) {
+        ++calls;
+        if (samples == 4) {
+            EXPECT_EQ(cap, 64);
+            ++half;
+        }
+        return cap;
+    });
+    EXPECT_EQ(3 * half.load(), calls.load());
+    EXPECT_GT(probe.half_seconds, 0);
+}
+
 TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
     std::atomic<int> low{0}, full{0};
-    CutProbe probe = probe_cuts(320, 180, 64, 1000, 1e6, [&](Point2i p, int cap) {
+    CutProbe probe = probe_cuts(320, 180, 64, 1000, 1, 1e6, [&](Point2i p, int cap, int samples) {
+        EXPECT_EQ(samples, 1);
         EXPECT_TRUE(p.x >= 0 && p.x < 320 && p.y >= 0 && p.y < 180);
         ++(cap == 64 ? low : full);
         return std::min(cap, 300);
@@ -119,7 +149,7 @@ TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
     // Where shading a pixel takes longer than the probe's share of the time, each visit stops
     // after the pixels it started.
     std::atomic<int> calls{0};
-    probe = probe_cuts(320, 180, 64, 1000, 1e-3, [&](Point2i, int cap) {
+    probe = probe_cuts(320, 180, 64, 1000, 1, 1e-3, [&](Point2i, int cap, int) {
         ++calls;
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
         return cap;

@@ -79,18 +79,25 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
     }
     plan.cap = lo;
     plan.capped_seconds = predicted(lo);
-    if (plan.capped_seconds > seconds) plan.samples_scale = seconds / plan.capped_seconds;
+    if (plan.capped_seconds <= seconds) return plan;
+    // Even the least cut does not fit: fewer samples. Per pixel, t(S) through (S0, t_low) and
+    // (S0 / 2, t_half), solved for the time there is.
+    const double budget = seconds / film_pixels, t_low = probe.low_seconds;
+    const double t_half = probe.half_seconds;
+    if (t_half > 0 && t_half < t_low)
+        plan.samples_scale = std::clamp(0.5 + 0.5 * (budget - t_half) / (t_low - t_half), 0.0, 1.0);
+    else
+        plan.samples_scale = 0.8 * seconds / plan.capped_seconds;
     return plan;
 }
 
 int pass_samples(int samples, const CutCapPlan& plan) {
     if (!(plan.samples_scale < 1)) return samples;
-    // The cut's cost stays when the samples shrink: ask for a fifth less than the ratio.
-    return std::max(1, int(double(samples) * plan.samples_scale * 0.8));
+    return std::max(1, int(double(samples) * plan.samples_scale));
 }
 
-CutProbe probe_cuts(int width, int height, int lowest, int max_cut, double seconds,
-                    const std::function<int(Point2i pixel, int cap)>& shade) {
+CutProbe probe_cuts(int width, int height, int lowest, int max_cut, int samples, double seconds,
+                    const std::function<int(Point2i pixel, int cap, int samples)>& shade) {
     CutProbe probe;
     if (width <= 0 || height <= 0) return probe;
     // Blocks of kCutProbeBlock x kCutProbeBlock neighbouring pixels, centred on a grid, each
@@ -108,36 +115,44 @@ CutProbe probe_cuts(int width, int height, int lowest, int max_cut, double secon
     // A visit of the grid at one cap: the pixels' cut sizes (-1 where the visit's share of the
     // time ran out before the pixel started), and the wall seconds per pixel visited.
     std::vector<int> sizes(pixels.size());
-    auto visit = [&](int cap) {
+    auto visit = [&](int cap, int n) {
         auto t0 = std::chrono::steady_clock::now();
         auto spent = [&] {
             return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         };
         parallel_for(size_t(0), pixels.size() / per_block, [&](size_t block) {
             for (size_t i = block * per_block; i < (block + 1) * per_block; ++i)
-                sizes[i] = spent() < kCutProbeShare * seconds ? shade(pixels[i], cap) : -1;
+                sizes[i] = spent() < kCutProbeShare * seconds ? shade(pixels[i], cap, n) : -1;
         });
         double t = spent();
         std::erase_if(sizes, [](int s) { return s < 0; });
         return sizes.empty() ? -1.0 : t / double(sizes.size());
     };
-    probe.low_seconds = visit(lowest);
+    // The first visit also pays for what a render's first touches cost (pages of the trees and
+    // the scene, the threads' buffers growing): it warms up, and the next one is timed.
+    visit(lowest, samples);
+    sizes.assign(pixels.size(), 0);
+    probe.low_seconds = visit(lowest, samples);
     for (int s : sizes) probe.low_mean_size += s;
     if (!sizes.empty()) probe.low_mean_size /= double(sizes.size());
     sizes.assign(pixels.size(), 0);
-    probe.full_seconds = visit(max_cut);
+    probe.full_seconds = visit(max_cut, samples);
     probe.full_sizes = std::move(sizes);
+    if (samples >= 2) {
+        sizes.assign(pixels.size(), 0);
+        probe.half_seconds = visit(lowest, samples / 2);
+    }
     return probe;
 }
 
-CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut,
-                             const std::function<int(Point2i pixel, int cap)>& shade) {
+CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut, int samples,
+                             const std::function<int(Point2i pixel, int cap, int samples)>& shade) {
     const int lowest = std::min(kPilotMaxCut, max_cut);
     if (!(ctx.time_limit > 0) || lowest >= max_cut) return CutCapPlan{max_cut};
     // The time left, as this rank's share of the film sees it.
     auto left = [&] { return std::max(0.0, ctx.time_limit - ctx.elapsed()) * double(ctx.ranks()); };
     const int w = ctx.film.width(), h = ctx.film.height();
-    CutProbe probe = probe_cuts(w, h, lowest, max_cut, left(), shade);
+    CutProbe probe = probe_cuts(w, h, lowest, max_cut, samples, left(), shade);
     CutCapPlan plan =
         choose_cut_cap(probe, double(w) * double(h), lowest, max_cut, kFirstPassTimeShare * left());
     if (ctx.ranks() > 1) plan.cap = int(ctx.world->all_min(int64_t(plan.cap)));

@@ -48,19 +48,18 @@ struct CutCapPlan {
     double full_seconds = 0;    // one pass's predicted wall time at max_cut
     double capped_seconds = 0;  // ... at `cap`
     double mean_full_size = 0;  // the probe's mean cut size at max_cut
-    // Where even `lowest` does not fit: the time over its predicted time (< 1); else 1. The
-    // cuts are then near their least cost, and what is left to shrink is the pass's samples
-    // (pass_samples).
+    // Where even `lowest` does not fit, the share of the pass's samples that does (< 1; else
+    // 1): a pixel's time at `lowest` taken as linear in its samples, through the probe's visits
+    // with all and with half of them; without the half visit, the time's ratio times 0.8 (the
+    // cut's cost does not shrink with the samples).
     double samples_scale = 1;
 };
 
-// The samples a pass takes under `plan`: `samples`, or where even the least cut does not fit,
-// that many scaled down by plan.samples_scale (with a margin: a pass's cut costs the same for
-// fewer samples), at least 1.
+// The samples a pass takes under `plan`: `samples` times plan.samples_scale, at least 1.
 int pass_samples(int samples, const CutCapPlan& plan);
 
 // The share of the time left that a time-limited render plans its first pass to take.
-constexpr double kFirstPassTimeShare = 0.7;
+constexpr double kFirstPassTimeShare = 0.75;
 
 // Pixels the timing probe visits: about this many, in square blocks of kCutProbeBlock on a
 // side centred on a regular grid.
@@ -74,6 +73,8 @@ constexpr double kCutProbeShare = 0.05;
 // at `lowest`, and the cut sizes at max_cut.
 struct CutProbe {
     double low_seconds = -1, full_seconds = -1;
+    // At `lowest` with half the pass's samples (< 0: not measured, a pass of one sample).
+    double half_seconds = -1;
     double low_mean_size = 0;
     std::vector<int> full_sizes;
 };
@@ -88,16 +89,18 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
 
 // Probes blocks on a sparse grid of the film (about kCutProbePixels pixels, in parallel) twice:
 // with cap `lowest` and with `max_cut`, each visit timed and stopped past kCutProbeShare of
-// `seconds`; shade(pixel, cap) shades one pixel's pass with cuts stopped at `cap` and returns the
+// `seconds`, and a third time at `lowest` with half the pass's `samples` (when it has 2 or more);
+// shade(pixel, cap, samples) shades one pixel's pass of `samples` samples with cuts stopped at
+// `cap` and returns the
 // cut's size.
-CutProbe probe_cuts(int width, int height, int lowest, int max_cut, double seconds,
-                    const std::function<int(Point2i pixel, int cap)>& shade);
+CutProbe probe_cuts(int width, int height, int lowest, int max_cut, int samples, double seconds,
+                    const std::function<int(Point2i pixel, int cap, int samples)>& shade);
 
 // What a many-light integrator with whole-film passes (mdlightcuts, bdlightcuts) runs before its
 // first: under ctx's time limit, probe_cuts, then choose_cut_cap for kFirstPassTimeShare of
 // the time left after the probe (across ranks, each renders its share of the film and all take
 // the least cap); without one, max_cut.
-CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut,
-                             const std::function<int(Point2i pixel, int cap)>& shade);
+CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut, int samples,
+                             const std::function<int(Point2i pixel, int cap, int samples)>& shade);
 
 }  // namespace ml

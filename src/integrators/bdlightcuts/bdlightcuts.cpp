@@ -258,9 +258,10 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             }));
     // Under a time limit, the cut cap that lets the first pass end in time (manylight/pilot.h).
     m_pass_samples = m_samples;
-    const CutCapPlan cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
-        return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
-    });
+    const CutCapPlan cap_plan =
+        plan_pass_cut_cap(ctx, m_max_cut, m_samples, [&](Point2i pixel, int cap, int samples) {
+            return estimate_pass(ctx, states.local(), pixel, 0, cap, samples).pairs;
+        });
     const int pass_cap = cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, cap_plan);
     const int passes = (ctx.spp + m_pass_samples - 1) / m_pass_samples;
@@ -317,7 +318,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
 BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
                                                                          ThreadState& ts,
                                                                          Point2i pixel, int pass,
-                                                                         int max_cut) const {
+                                                                         int max_cut,
+                                                                         int samples) const {
     const Scene& scene = ctx.scene;
     Sampler& sampler = *ts.sampler;
     ts.points.clear();
@@ -326,8 +328,9 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const R
     // 1. The pass's eye paths: their VSPs, and the emission they meet, weighted by filter.
     RGB known;
     double weight_sum = 0;
-    for (int s = 0; s < m_pass_samples; ++s) {
-        sampler.start_pixel_sample(pixel, pass * m_pass_samples + s);
+    const int n = samples > 0 ? samples : m_pass_samples;
+    for (int s = 0; s < n; ++s) {
+        sampler.start_pixel_sample(pixel, pass * n + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

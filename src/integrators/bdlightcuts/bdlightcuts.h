@@ -49,7 +49,7 @@ private:
         size_t vsps = 0;
     };
     PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
-                               int max_cut) const;
+                               int max_cut, int samples = 0) const;
     // One eye path: its VSPs into ts, the weighted emission it meets returned.
     RGB trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
                   float filter_weight) const;

@@ -150,7 +150,7 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
                 return sample0(pixel, kPilotMaxCut, &nodes);
             }));
     // Under a time limit, the cap that lets the first pass (a sample per pixel) end in time.
-    m_cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
+    m_cap_plan = plan_pass_cut_cap(ctx, m_max_cut, 1, [&](Point2i pixel, int cap, int) {
         int nodes = 0;
         sample0(pixel, cap, &nodes);
         return nodes;

@@ -74,9 +74,10 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
                 return e.value;
             }));
     m_pass_samples = m_samples;
-    m_cap_plan = plan_pass_cut_cap(ctx, m_max_cut, [&](Point2i pixel, int cap) {
-        return estimate_pass(ctx, states.local(), pixel, 0, cap).pairs;
-    });
+    m_cap_plan =
+        plan_pass_cut_cap(ctx, m_max_cut, m_samples, [&](Point2i pixel, int cap, int samples) {
+            return estimate_pass(ctx, states.local(), pixel, 0, cap, samples).pairs;
+        });
     m_pass_cap = m_cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, m_cap_plan);
     // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
@@ -128,7 +129,8 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
 MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
                                                                          ThreadState& ts,
                                                                          Point2i pixel, int pass,
-                                                                         int max_cut) const {
+                                                                         int max_cut,
+                                                                         int samples) const {
     const Scene& scene = ctx.scene;
     Sampler& sampler = *ts.sampler;
     ts.points.clear();
@@ -138,8 +140,9 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const R
     RGB known;
     double weight_sum = 0;
     ts.uniforms.clear();
-    for (int s = 0; s < m_pass_samples; ++s) {
-        sampler.start_pixel_sample(pixel, pass * m_pass_samples + s);
+    const int n = samples > 0 ? samples : m_pass_samples;
+    for (int s = 0; s < n; ++s) {
+        sampler.start_pixel_sample(pixel, pass * n + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

@@ -47,7 +47,7 @@ private:
     // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1), with cuts of at most
     // max_cut pairs.
     PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
-                               int max_cut) const;
+                               int max_cut, int samples = 0) const;
     // The same, added to the film and counted in the figures.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                            int pass) const;
