@@ -155,7 +155,11 @@ CutCapPlan plan_pass_cut_cap(const RenderContext& ctx, int max_cut, int samples,
     CutProbe probe = probe_cuts(w, h, lowest, max_cut, samples, left(), shade);
     CutCapPlan plan =
         choose_cut_cap(probe, double(w) * double(h), lowest, max_cut, kFirstPassTimeShare * left());
-    if (ctx.ranks() > 1) plan.cap = int(ctx.world->all_min(int64_t(plan.cap)));
+    if (ctx.ranks() > 1) {
+        plan.cap = int(ctx.world->all_min(int64_t(plan.cap)));
+        // The samples too (in millionths), so that every rank's passes are alike.
+        plan.samples_scale = double(ctx.world->all_min(int64_t(plan.samples_scale * 1e6))) * 1e-6;
+    }
     return plan;
 }
 
