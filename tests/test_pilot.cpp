@@ -8,7 +8,13 @@
 #include <cmath>
 #include <thread>
 
+#include "camera/camera.h"
+#include "film/film.h"
+#include "film/filter.h"
 #include "manylight/pilot.h"
+#include "scene/default_scene.h"
+#include "scene/scene.h"
+#include "scene/scene_desc.h"
 
 namespace ml {
 
@@ -114,6 +120,8 @@ TEST(CutCap, FewerSamplesWhereTheLeastCutDoesNotFit) {
     EXPECT_EQ(plan.cap, 64);
     EXPECT_NEAR(plan.samples_scale, 0.75, 1e-9);
     EXPECT_EQ(pass_samples(32, plan), 24);
+    // Of the 52 ms of a pixel's pass of 24 samples, the cut's 16 do not shrink with them.
+    EXPECT_NEAR(plan.fixed_share, 16.0 / 52.0, 1e-9);
     // Not even the cut alone fits: one sample.
     EXPECT_EQ(pass_samples(32, choose_cut_cap(probe, 100, 64, 1000, 1.0)), 1);
     // The probe visits at half the samples when a pass has 2 or more.
@@ -129,6 +137,100 @@ TEST(CutCap, FewerSamplesWhereTheLeastCutDoesNotFit) {
     // Four visits of the same pixels: a warm-up and a timed one at cap 64, whole cuts, half.
     EXPECT_EQ(4 * half.load(), calls.load());
     EXPECT_GT(probe.half_seconds, 0);
+}
+
+// The last pass under a time limit: the samples that fill 95% of the time left, at the measured
+// pass time split into a fixed part and a part linear in the samples; worked out by hand.
+TEST(CutCap, TheLastPassFillsTheTimeLeft) {
+    // 8 s a pass of 32 samples, a quarter of it fixed; 3 s left: 2.85 s, 2 s fixed, 0.85 s of
+    // samples at 6 s / 32 = 0.1875 s each: 4.53, so 4.
+    EXPECT_EQ(remainder_samples(32, 8, 0.25, 3), 4);
+    // No fixed part: 32 x 0.95 x 4 / 8 = 15.2.
+    EXPECT_EQ(remainder_samples(32, 8, 0, 4), 15);
+    // The fixed part alone overruns: none; a pass of one sample cannot shrink; nor can a pass
+    // whose cost does not depend on its samples.
+    EXPECT_EQ(remainder_samples(32, 8, 0.5, 3), 0);
+    EXPECT_EQ(remainder_samples(1, 8, 0, 100), 0);
+    EXPECT_EQ(remainder_samples(32, 8, 1, 100), 0);
+    EXPECT_EQ(remainder_samples(32, 8, 0, 0), 0);
+    // Room for a whole pass: one sample short of it (whole passes are the render loop's).
+    EXPECT_EQ(remainder_samples(32, 1, 0, 100), 31);
+
+    // The plan's fixed share at a cap that fits: per pixel 10 ms fixed plus 1 ms a pair, and at
+    // cap 64 (74 ms) 20 ms less with half the samples, so 40 ms of samples. 100 pixels in
+    // 20.05 s: cap 190 (AFixedCostPerPixelCounts), a pass of 100 x 200 ms = 20 s of which 4 s
+    // are samples.
+    CutProbe probe;
+    probe.low_seconds = 74e-3;
+    probe.half_seconds = 54e-3;
+    probe.low_mean_size = 64;
+    probe.full_sizes = {400, 400};
+    probe.full_seconds = 410e-3;
+    CutCapPlan plan = choose_cut_cap(probe, 100, 64, 1000, 20.05);
+    EXPECT_EQ(plan.cap, 190);
+    EXPECT_NEAR(plan.fixed_share, 1 - 4 / 20.0, 1e-6);
+    // Whole cuts fit: 41 s a pass.
+    plan = choose_cut_cap(probe, 100, 64, 1000, 1e9);
+    EXPECT_NEAR(plan.fixed_share, 1 - 4 / 41.0, 1e-6);
+    // Without the half-samples visit nothing is known: all fixed.
+    probe.half_seconds = -1;
+    EXPECT_EQ(choose_cut_cap(probe, 100, 64, 1000, 20.05).fixed_share, 1);
+}
+
+// render_sample_passes under a time limit, with a stand-in pass whose time is its samples:
+// whole passes of 64 samples at consecutive sample indices, then, where the last whole pass left
+// room, one pass of fewer samples after them; every pixel alike, and the render ends in time.
+TEST(CutCap, RenderSamplePassesEndsWithAPassThatFillsTheTime) {
+    Scene scene(parse_scene_string(default_scene_text(), "."));
+    const int w = 16, h = 16;
+    PerspectiveCamera camera(ParameterList{}, AnimatedTransform(Transform()), w, h);
+    auto filter = create_filter("box", ParameterList{}, FileLoc{});
+    auto sampler = create_sampler("independent", 1, 1);
+    Film film(w, h);
+    const double limit = 1.0;
+    RenderContext ctx{scene, camera, *filter, film, *sampler, 1 << 20, limit};
+    // Per pixel its passes (first sample, samples), and when the last whole pass ended.
+    std::vector<std::vector<std::pair<int, int>>> calls(w * h);
+    std::atomic<int64_t> whole_end_us{0};
+    const int n = 64;
+    int64_t total = render_sample_passes(ctx, n, 0.0, [&](Point2i p, int first, int samples) {
+        // About 0.6 s a pass of 64 samples on 2 threads (4 tiles of 8x8 pixels).
+        std::this_thread::sleep_for(std::chrono::microseconds(73 * samples));
+        calls[p.y * w + p.x].push_back({first, samples});
+        if (samples == n) {
+            int64_t t = int64_t(ctx.elapsed() * 1e6), prev = whole_end_us.load();
+            while (t > prev && !whole_end_us.compare_exchange_weak(prev, t)) {
+            }
+        }
+    });
+    EXPECT_LT(ctx.elapsed(), limit + 0.3);
+    // On a machine so loaded that not even the first pass ended in time, nothing else holds.
+    if (total == 0) return;
+    const int64_t whole = total / n * n, last = total - whole;
+    for (const auto& pixel : calls) {
+        ASSERT_FALSE(pixel.empty());
+        for (size_t i = 0; i < pixel.size(); ++i) {
+            EXPECT_EQ(pixel[i].first, int(i) * n);
+            if (i + 1 < pixel.size()) {
+                EXPECT_EQ(pixel[i].second, n);
+            }
+        }
+        // A pixel has the samples that counted, and maybe more from a round the limit cut short.
+        int64_t sum = 0;
+        for (auto [first, samples] : pixel) sum += samples;
+        EXPECT_GE(sum, total);
+    }
+    // The last whole pass ended with 30% of the time left, more than a pass of 64 samples would
+    // fill at what it took: a pass of fewer samples ran, on every pixel unless the limit cut it
+    // short.
+    if (whole_end_us.load() < 0.7e6 * limit) {
+        bool smaller = false;
+        for (const auto& pixel : calls) smaller |= pixel.back().second < n;
+        EXPECT_TRUE(smaller) << "total " << total;
+        if (!ctx.out_of_time()) {
+            EXPECT_GT(last, 0);
+        }
+    }
 }
 
 TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {

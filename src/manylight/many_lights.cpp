@@ -133,7 +133,8 @@ nlohmann::json cut_cap_json(const CutCapPlan& plan) {
             {"full_pass_seconds", plan.full_seconds},
             {"capped_pass_seconds", plan.capped_seconds},
             {"probe_mean_cut", plan.mean_full_size},
-            {"samples_scale", plan.samples_scale}};
+            {"samples_scale", plan.samples_scale},
+            {"fixed_share", plan.fixed_share}};
 }
 
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "render/render_loop.h"
 
 namespace ml {
 
@@ -67,8 +68,17 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
     };
     plan.full_seconds = film_pixels * probe.full_seconds;
     plan.mean_full_size = s_full;
+    // Per pixel, the part of the time at `lowest` that halves with the samples, twice over: the
+    // samples' own share of a pass, whatever the cap (the cap's cuts add only to the fixed part).
+    const double t_low = probe.low_seconds, t_half = probe.half_seconds;
+    const double sample_part = t_half > 0 && t_half < t_low ? 2 * (t_low - t_half) : 0;
+    auto fixed_share = [&](double pass_seconds, double scale) {
+        if (!(sample_part > 0) || !(pass_seconds > 0)) return 1.0;
+        return std::clamp(1 - film_pixels * sample_part * scale / pass_seconds, 0.0, 1.0);
+    };
     if (plan.full_seconds <= seconds) {
         plan.capped_seconds = plan.full_seconds;
+        plan.fixed_share = fixed_share(plan.full_seconds, 1);
         return plan;
     }
     // The predicted time grows with the cap: the largest cap that fits, by bisection.
@@ -79,21 +89,56 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
     }
     plan.cap = lo;
     plan.capped_seconds = predicted(lo);
-    if (plan.capped_seconds <= seconds) return plan;
+    if (plan.capped_seconds <= seconds) {
+        plan.fixed_share = fixed_share(plan.capped_seconds, 1);
+        return plan;
+    }
     // Even the least cut does not fit: fewer samples. Per pixel, t(S) through (S0, t_low) and
     // (S0 / 2, t_half), solved for the time there is.
-    const double budget = seconds / film_pixels, t_low = probe.low_seconds;
-    const double t_half = probe.half_seconds;
-    if (t_half > 0 && t_half < t_low)
+    const double budget = seconds / film_pixels;
+    if (sample_part > 0) {
         plan.samples_scale = std::clamp(0.5 + 0.5 * (budget - t_half) / (t_low - t_half), 0.0, 1.0);
-    else
+        double pass = film_pixels * (t_low - sample_part * (1 - plan.samples_scale));
+        plan.fixed_share = fixed_share(pass, plan.samples_scale);
+    } else {
         plan.samples_scale = 0.8 * seconds / plan.capped_seconds;
+    }
     return plan;
 }
 
 int pass_samples(int samples, const CutCapPlan& plan) {
     if (!(plan.samples_scale < 1)) return samples;
     return std::max(1, int(double(samples) * plan.samples_scale));
+}
+
+int remainder_samples(int pass_samples, double pass_seconds, double fixed_share, double seconds) {
+    const double a = std::clamp(fixed_share, 0.0, 1.0);
+    if (pass_samples < 2 || !(pass_seconds > 0) || !(seconds > 0) || a >= 1) return 0;
+    double k = double(pass_samples) * (kRoundTimeShare * seconds / pass_seconds - a) / (1 - a);
+    return int(std::clamp(std::floor(k), 0.0, double(pass_samples - 1)));
+}
+
+int64_t render_sample_passes(const RenderContext& ctx, int pass_samples, double fixed_share,
+                             const std::function<void(Point2i pixel, int first, int samples)>& fn) {
+    const int64_t n = pass_samples, passes = (int64_t(ctx.spp) + n - 1) / n;
+    const double start = ctx.elapsed();
+    const int64_t done = render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
+        for (int64_t p = p0; p < p1; ++p) fn(pixel, int(p * n), int(n));
+    });
+    int64_t samples = done * n;
+    // A round cut short by the limit leaves its samples in some tiles: none is taken again.
+    if (!(ctx.time_limit > 0) || done == 0 || done >= passes || ctx.out_of_time()) return samples;
+    double per_pass = (ctx.elapsed() - start) / double(done);
+    int64_t k = remainder_samples(pass_samples, per_pass, fixed_share,
+                                  ctx.time_limit - ctx.elapsed());
+    k = std::min<int64_t>(k, int64_t(ctx.spp) - samples);
+    if (ctx.ranks() > 1) k = ctx.world->all_min(k);
+    if (k <= 0) return samples;
+    if (render_pixels(ctx, 1, [&](Point2i pixel, int64_t, int64_t) {
+            fn(pixel, int(samples), int(k));
+        }) == 1)
+        samples += k;
+    return samples;
 }
 
 CutProbe probe_cuts(int width, int height, int lowest, int max_cut, int samples, double seconds,

@@ -53,10 +53,30 @@ struct CutCapPlan {
     // with all and with half of them; without the half visit, the time's ratio times 0.8 (the
     // cut's cost does not shrink with the samples).
     double samples_scale = 1;
+    // The share of a pass's time at `cap` that does not shrink with its samples (the cuts'
+    // refinement, against the samples' rays and gather points), through the probe's visits with
+    // all and half of the samples; 1 where they do not tell.
+    double fixed_share = 1;
 };
 
 // The samples a pass takes under `plan`: `samples` times plan.samples_scale, at least 1.
 int pass_samples(int samples, const CutCapPlan& plan);
+
+// Under a time limit, once the whole passes that fit are done: the samples of one last pass
+// predicted to end within kRoundTimeShare of `seconds` left, a pass of k of `pass_samples`
+// samples taken to cost pass_seconds * (fixed_share + (1 - fixed_share) k / pass_samples).
+// In [0, pass_samples - 1]; 0 when none fits.
+int remainder_samples(int pass_samples, double pass_seconds, double fixed_share, double seconds);
+
+// The passes of an integrator whose passes shade the whole film (mdlightcuts, bdlightcuts):
+// fn(pixel, first, samples) shades the pixel's samples [first, first + samples) as one pass.
+// Passes of `pass_samples` samples run through render_pixels up to ctx.spp; under a time limit,
+// where the time left after the last whole pass has no room for another, one last pass of
+// remainder_samples fills it (each pixel's passes add to the film by their samples' weights, so
+// a pass of fewer samples keeps its mean right). Across ranks, every rank takes the least
+// remainder. Returns the samples per pixel done (a pass cut short by the limit does not count).
+int64_t render_sample_passes(const RenderContext& ctx, int pass_samples, double fixed_share,
+                             const std::function<void(Point2i pixel, int first, int samples)>& fn);
 
 // The share of the time left that a time-limited render plans its first pass to take.
 constexpr double kFirstPassTimeShare = 0.75;

@@ -264,22 +264,20 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         });
     const int pass_cap = cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, cap_plan);
-    const int passes = (ctx.spp + m_pass_samples - 1) / m_pass_samples;
-    const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
-        ThreadState& ts = states.local();
-        for (int64_t p = p0; p < p1; ++p) {
-            PassEstimate e = estimate_pass(ctx, ts, pixel, int(p), pass_cap);
-            if (e.weight_sum == 0) continue;
+    const int64_t samples_done = render_sample_passes(
+        ctx, m_pass_samples, cap_plan.fixed_share, [&](Point2i pixel, int first, int samples) {
+            PassEstimate e = estimate_pass(ctx, states.local(), pixel, first, pass_cap, samples);
+            if (e.weight_sum == 0) return;
             ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
             m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
             m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
             m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
             if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
-        }
-    }));
+        });
+    const int done = int(samples_done / m_pass_samples);
 
     RenderResult result;
-    result.spp = done * m_pass_samples;
+    result.spp = int(samples_done);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
@@ -301,6 +299,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                                 {"c_d", m_weights.c_d},
                                 {"spread", m_weights.spread}}},
                               {"passes", done},
+                              {"last_pass_samples", samples_done - int64_t(done) * m_pass_samples},
                               {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
                               {"capped_fraction", double(m_capped.load()) / pixel_passes},
                               {"vsps_per_pixel_pass", double(m_vsps.load()) / pixel_passes},
@@ -317,7 +316,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
 
 BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
                                                                          ThreadState& ts,
-                                                                         Point2i pixel, int pass,
+                                                                         Point2i pixel, int first,
                                                                          int max_cut,
                                                                          int samples) const {
     const Scene& scene = ctx.scene;
@@ -330,7 +329,7 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const R
     double weight_sum = 0;
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
-        sampler.start_pixel_sample(pixel, pass * n + s);
+        sampler.start_pixel_sample(pixel, first + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

@@ -80,19 +80,20 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
         });
     m_pass_cap = m_cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, m_cap_plan);
-    // Passes of m_samples samples per pixel, in the render loop's rounds (as PixelIntegrator
-    // takes samples).
-    const int passes = (ctx.spp + m_pass_samples - 1) / m_pass_samples;
-    const int done = int(render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
-        ThreadState& ts = states.local();
-        for (int64_t p = p0; p < p1; ++p) render_pixel_pass(ctx, ts, pixel, int(p));
-    }));
+    // Passes of m_pass_samples samples per pixel, in the render loop's rounds (as
+    // PixelIntegrator takes samples), and under a time limit a last, smaller one that fills it.
+    const int64_t samples_done = render_sample_passes(
+        ctx, m_pass_samples, m_cap_plan.fixed_share, [&](Point2i pixel, int first, int samples) {
+            render_pixel_pass(ctx, states.local(), pixel, first, samples);
+        });
+    const int done = int(samples_done / m_pass_samples);
 
     RenderResult result;
-    result.spp = done * m_pass_samples;
+    result.spp = int(samples_done);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     result.stats["mdlightcuts"] = figures_json(ctx, done);
+    result.stats["mdlightcuts"]["last_pass_samples"] = samples_done - int64_t(done) * m_pass_samples;
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning =
         capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set, m_pass_cap);
@@ -107,8 +108,8 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
 }
 
 void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadState& ts,
-                                              Point2i pixel, int pass) const {
-    PassEstimate e = estimate_pass(ctx, ts, pixel, pass, m_pass_cap);
+                                              Point2i pixel, int first, int samples) const {
+    PassEstimate e = estimate_pass(ctx, ts, pixel, first, m_pass_cap, samples);
     if (e.weight_sum == 0) return;
     ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
 
@@ -128,7 +129,7 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
 
 MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
                                                                          ThreadState& ts,
-                                                                         Point2i pixel, int pass,
+                                                                         Point2i pixel, int first,
                                                                          int max_cut,
                                                                          int samples) const {
     const Scene& scene = ctx.scene;
@@ -142,7 +143,7 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const R
     ts.uniforms.clear();
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
-        sampler.start_pixel_sample(pixel, pass * n + s);
+        sampler.start_pixel_sample(pixel, first + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

@@ -44,13 +44,13 @@ private:
         int pairs = 0;          // the cut's size
         size_t gather_points = 0;
     };
-    // Pass `pass` of `pixel` (samples pass * S to pass * S + S - 1), with cuts of at most
-    // max_cut pairs.
-    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int pass,
-                               int max_cut, int samples = 0) const;
+    // The pass of `pixel` over its samples first to first + samples - 1 (samples 0: the pass's
+    // m_pass_samples), with cuts of at most max_cut pairs.
+    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
+                               int first, int max_cut, int samples = 0) const;
     // The same, added to the film and counted in the figures.
-    void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
-                           int pass) const;
+    void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first,
+                           int samples) const;
     nlohmann::json figures_json(const RenderContext& ctx, int passes) const;
 
     ManyLightSettings m_settings;
