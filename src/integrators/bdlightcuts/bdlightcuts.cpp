@@ -182,11 +182,16 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         if (!bsdf) break;
         Vec3 n = bsdf.frame().n;
         if (bsdf.has_nonspecular()) {
-            ts.vsps.push_back({prefix, pending ? pending_m * t_prev : -1.f, pending_mu,
-                               spread_mu(m_weights, theta), depth + 1});
-            ts.points.push_back(
-                {GatherPoint{si, bsdf, beta}, filter_weight, RGB(), int32_t(ts.vsps.size() - 1)});
-            ts.uniforms.push_back(sampler.get_1d());
+            // A VSP whose pairs all weigh 0 stays out of the VSP tree (vsp_weight_bound).
+            float u_rep = sampler.get_1d();
+            float mu = spread_mu(m_weights, theta);
+            if (vsp_weight_bound(m_weights, prefix, pending, pending_mu, mu) > 0) {
+                ts.vsps.push_back(
+                    {prefix, pending ? pending_m * t_prev : -1.f, pending_mu, mu, depth + 1});
+                ts.points.push_back({GatherPoint{si, bsdf, beta}, filter_weight, RGB(),
+                                     int32_t(ts.vsps.size() - 1)});
+                ts.uniforms.push_back(u_rep);
+            }
             ++vsps;
         }
         float uc = sampler.get_1d();

@@ -28,4 +28,10 @@ float emission_weight(const SplitWeightOptions& o, float prefix, float mu) {
     return std::max(0.f, w);
 }
 
+float vsp_weight_bound(const SplitWeightOptions& o, float prefix, bool pending, float pending_mu,
+                       float mu) {
+    if (pending) prefix += split_weight(o, prefix, kInfinity, kInfinity, pending_mu);
+    return emission_weight(o, prefix, mu);
+}
+
 }  // namespace ml
