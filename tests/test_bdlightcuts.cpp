@@ -162,11 +162,15 @@ TEST(BdLightcuts, VspWeightBoundHoldsForEveryLight) {
     // computes them) is above it, whatever M T D and D the light gives.
     SplitWeightOptions energy;
     energy.clamp = energy.diffuse = energy.variance = false;
-    EXPECT_FLOAT_EQ(vsp_weight_bound(energy, 0.f, true, 1.f, 1.f), 0.f);
-    EXPECT_FLOAT_EQ(vsp_weight_bound(energy, 0.f, false, 1.f, 1.f), 1.f);
+    EXPECT_FLOAT_EQ(vsp_weight_bound(energy, 0.f, 2.f, kInfinity, 1.f, 1.f), 0.f);
+    EXPECT_FLOAT_EQ(vsp_weight_bound(energy, 0.f, -1.f, kInfinity, 1.f, 1.f), 1.f);
     SplitWeightOptions all;
     all.c_clamp = 0.5f, all.spread = 2.f;
-    EXPECT_FLOAT_EQ(vsp_weight_bound(all, 0.25f, true, 1.f, 1.f), 0.75f);
+    EXPECT_FLOAT_EQ(vsp_weight_bound(all, 0.25f, 2.f, kInfinity, 1.f, 1.f), 0.75f);
+    // A diffuse VSP (D_j at most 0.3 < C_D) after a split that clamping cannot reach: none.
+    SplitWeightOptions diffuse = all;
+    diffuse.clamp = false;
+    EXPECT_FLOAT_EQ(vsp_weight_bound(diffuse, 0.f, 2.f, 0.3f, 1.f, 1.f), 0.f);
     Rng rng(7);
     for (int i = 0; i < 20000; ++i) {
         SplitWeightOptions o = all;
@@ -175,11 +179,12 @@ TEST(BdLightcuts, VspWeightBoundHoldsForEveryLight) {
         float prefix = rng.next_float(), mu = rng.next_float() * 1.2f;
         float pending_mu = rng.next_float() * 1.2f, pending_mtd = 10 * rng.next_float();
         float dj = 3 * rng.next_float(), mtd = 10 * rng.next_float(), d = 3 * rng.next_float();
-        bool pending = rng.next_float() < 0.7f;
+        float pending_mt = rng.next_float() < 0.3f ? -1.f : pending_mtd;
+        float dj_max = rng.next_float() < 0.2f ? kInfinity : dj * (1 + rng.next_float());
         float p = prefix;
-        if (pending) p += split_weight(o, prefix, pending_mtd * dj, dj, pending_mu);
+        if (pending_mt >= 0) p += split_weight(o, prefix, pending_mt * dj, dj, pending_mu);
         EXPECT_LE(split_weight(o, p, mtd, d, mu),
-                  vsp_weight_bound(o, prefix, pending, pending_mu, mu))
+                  vsp_weight_bound(o, prefix, pending_mt, dj_max, pending_mu, mu))
             << i;
     }
 }
@@ -212,6 +217,13 @@ TEST(BdLightcuts, EnergyWeightAloneUnderACappedCutLeavesZeroWeightVspsOut) {
                                   bdlc(merge(weights(true, false, false, false, 1), capped)), 3);
     EXPECT_TRUE(same_image(run_mean(two), run_mean(one)));
     test::expect_agreement(two, cornell_reference(), 8, "energy weight alone, max_cut 48");
+    // The diffuse weight with no clamping: every VSP after the first is on a diffuse surface,
+    // whose D_j (albedo / pi) is below C_D, so split 1 takes all; left out as well, the image is
+    // the energy weight's at eye_length 1 (the diffuse weight cannot act on the box's diffuse
+    // VPLs either: WeightsThatCannotActChangeNothing).
+    auto diffuse = test::render_twice(scene, "bdlightcuts", 16, 4, 16,
+                                      bdlc(merge(weights(true, false, true, false, 2), capped)), 3);
+    EXPECT_TRUE(same_image(run_mean(diffuse), run_mean(one)));
 }
 
 TEST(BdLightcuts, EnergyWeightAloneAgreesWithBdptOnAGlossyPlane) {
