@@ -47,6 +47,17 @@ RGB light_flux(const PointLightSet& set, const PointLight& pl) {
     return pl.intensity * (4 * kPi);
 }
 
+// An upper bound of D_j, the VSP's lobe towards the eye f(wo, wi) |cos wo|, over every light
+// direction wi (SplitWeighting::weight): exact for Lambertian lobes alone (f is the same for
+// every wi on a side), +infinity for the others.
+float max_vsp_density(const Bsdf& bsdf, const Vec3& wo) {
+    if ((bsdf.flags() & (kBxdfGlossy | kBxdfSpecular)) || !(bsdf.flags() & kBxdfDiffuse))
+        return kInfinity;
+    const Vec3& n = bsdf.frame().n;
+    float f = std::max(bsdf.eval(wo, n).max_component(), bsdf.eval(wo, -n).max_component());
+    return f * abs_dot(wo, n);
+}
+
 // The split weight of each (VSP, point light) pair of a pass.
 class SplitWeighting final : public PairWeight {
 public:
@@ -182,11 +193,17 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         if (!bsdf) break;
         Vec3 n = bsdf.frame().n;
         if (bsdf.has_nonspecular()) {
-            ts.vsps.push_back({prefix, pending ? pending_m * t_prev : -1.f, pending_mu,
-                               spread_mu(m_weights, theta), depth + 1});
-            ts.points.push_back(
-                {GatherPoint{si, bsdf, beta}, filter_weight, RGB(), int32_t(ts.vsps.size() - 1)});
-            ts.uniforms.push_back(sampler.get_1d());
+            // A VSP whose pairs all weigh 0 stays out of the VSP tree (vsp_weight_bound).
+            float u_rep = sampler.get_1d();
+            float mu = spread_mu(m_weights, theta),
+                  pending_mt = pending ? pending_m * t_prev : -1.f;
+            if (vsp_weight_bound(m_weights, prefix, pending_mt, max_vsp_density(bsdf, si.wo),
+                                 pending_mu, mu) > 0) {
+                ts.vsps.push_back({prefix, pending_mt, pending_mu, mu, depth + 1});
+                ts.points.push_back({GatherPoint{si, bsdf, beta}, filter_weight, RGB(),
+                                     int32_t(ts.vsps.size() - 1)});
+                ts.uniforms.push_back(u_rep);
+            }
             ++vsps;
         }
         float uc = sampler.get_1d();

@@ -9,7 +9,7 @@
 // weight the earlier splits left (the last split). With the energy weight alone the weights put
 // everything on the first connectable eye vertex: the unbiased `vpl`/`mdlightcuts` estimator
 // without clamping; clamping, diffuse VPLs and the spread exclusion move energy to longer eye
-// paths or drop it.
+// paths or drop it. A VSP whose pairs all weigh 0 (vsp_weight_bound) stays out of the VSP tree.
 #pragma once
 
 #include <atomic>

@@ -28,4 +28,13 @@ float emission_weight(const SplitWeightOptions& o, float prefix, float mu) {
     return std::max(0.f, w);
 }
 
+float vsp_weight_bound(const SplitWeightOptions& o, float prefix, float pending_mt, float dj_max,
+                       float pending_mu, float mu) {
+    if (pending_mt >= 0) {
+        float mtd = pending_mt > 0 ? pending_mt * dj_max : 0.f;
+        prefix += split_weight(o, prefix, mtd, dj_max, pending_mu);
+    }
+    return emission_weight(o, prefix, mu);
+}
+
 }  // namespace ml

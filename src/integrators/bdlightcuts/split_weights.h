@@ -50,4 +50,18 @@ float split_weight(const SplitWeightOptions& o, float prefix, float mtd, float d
 // only, as there is no connection to clamp.
 float emission_weight(const SplitWeightOptions& o, float prefix, float mu);
 
+// An upper bound, over every light, of the weights of a VSP's pairs (SplitWeighting::weight).
+// pending_mt: M_{j-1} T_{j-1,j} (< 0: no split j-1); dj_max: an upper bound of D_j over every
+// light direction (+infinity where unknown). split_weight falls as M T D and D grow, so w_{j-1}
+// is at least its value at dj_max, and w_j at most what energy and variance leave after that.
+// 0 where the eye path alone has used the weights up: with the energy weight alone, every VSP
+// after a non-delta eye vertex (w_{j-1} = 1 - S_{j-1}); with the diffuse weight, one at a diffuse
+// surface after a non-delta vertex (D_j <= albedo / pi < C_D, so w_{j-1} = 1 - S_{j-1}). Such a
+// VSP joins no light with any weight, and is left out of the VSP tree: in it, it would be drawn
+// as clusters' representative in proportion to its throughput and shade them 0, a 0-or-large
+// estimate that the cut's refinement (which splits where the estimates are high) turns into a
+// darkening (bench/RESULTS.md, issue 13, session 11).
+float vsp_weight_bound(const SplitWeightOptions& o, float prefix, float pending_mt, float dj_max,
+                       float pending_mu, float mu);
+
 }  // namespace ml
