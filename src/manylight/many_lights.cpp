@@ -137,14 +137,16 @@ nlohmann::json cut_cap_json(const CutCapPlan& plan) {
 }
 
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {
-    return {{"point_light_seconds", set.seconds},
-            {"omni", set.omni},
-            {"oriented", set.oriented},
-            {"directional", set.directional},
-            {"glossy", set.glossy},
-            {"light_paths", set.light_paths},
-            {"direct", direct.empty() ? "points" : "sample"},
-            {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+    nlohmann::json j = {{"point_light_seconds", set.seconds},
+                        {"omni", set.omni},
+                        {"oriented", set.oriented},
+                        {"directional", set.directional},
+                        {"glossy", set.glossy},
+                        {"light_paths", set.light_paths},
+                        {"direct", direct.empty() ? "points" : "sample"},
+                        {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+    j.update(vpl_budget_json(set));
+    return j;
 }
 
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,

@@ -56,6 +56,7 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_settings.lights.vpl_budget = vpl_build_budget(ctx);
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
@@ -92,6 +93,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.spp = done * m_pass_samples;
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
     result.stats["mdlightcuts"] = figures_json(ctx, done);
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning =
