@@ -57,6 +57,7 @@ int sample_vpls_within(const Scene& scene, const PerspectiveCamera* camera,
         PointLightSet dropped;
         auto t0 = std::chrono::steady_clock::now();
         sample_vpls(scene, camera, probe, dropped);
+        if (budget.also_timed) budget.also_timed(dropped);
         smaller = larger;
         larger = {n, since(t0)};
         double left = budget.seconds - since(start);

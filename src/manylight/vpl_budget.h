@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 
 #include "manylight/vpl_generator.h"
@@ -32,9 +33,13 @@ inline constexpr double kVplProbeShare = 0.08;
 struct VplBudget {
     double seconds = 0;      // > 0: wall seconds the build may take; 0: no limit
     World* world = nullptr;  // the ranks that build the same set (null: this process alone)
+    // Set: what the caller builds over the set next and that grows with it (the light tree),
+    // run on each probe's set and timed with it, so that the count fits with it.
+    std::function<void(const PointLightSet&)> also_timed;
 };
 
-// kVplBuildTimeShare of ctx's time limit, less what the render has spent (no limit without one).
+// kVplBuildTimeShare of ctx's time limit, less what the render has spent (no limit without one;
+// also_timed unset).
 VplBudget vpl_build_budget(const RenderContext& ctx);
 
 // One timed build: `count` VPLs asked for, `seconds` of wall time.

@@ -217,7 +217,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
 RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
-    m_settings.lights.vpl_budget = vpl_build_budget(ctx);
+    m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
     build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
     m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);

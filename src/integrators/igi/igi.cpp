@@ -196,7 +196,7 @@ void IgiIntegrator::shade_row_vpls(const Scene& scene, RowState& rs) const {
 RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     const Scene& scene = ctx.scene;
     m_many.use_render_seed(ctx.seed);
-    m_many.lights.vpl_budget = vpl_build_budget(ctx);
+    m_many.use_time_limit(ctx, false);
     build_many_lights(scene, m_many, &m_set, &m_direct);
 
     // The VPLs dealt round-robin to the sub-buffers (VPLs are in light-path order, so every

@@ -52,7 +52,7 @@ void LightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
-    m_settings.lights.vpl_budget = vpl_build_budget(ctx);
+    m_settings.use_time_limit(ctx, true);
     m_width = ctx.film.width();
     m_pixel_cut.assign(size_t(ctx.film.width()) * ctx.film.height(), 0.f);
     m_pixel_samples.assign(m_pixel_cut.size(), 0);

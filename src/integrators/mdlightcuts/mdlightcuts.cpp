@@ -56,7 +56,7 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
-    m_settings.lights.vpl_budget = vpl_build_budget(ctx);
+    m_settings.use_time_limit(ctx, true);
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);

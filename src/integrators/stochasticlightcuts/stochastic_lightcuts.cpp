@@ -26,7 +26,7 @@ void StochasticLightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult StochasticLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
-    m_settings.lights.vpl_budget = vpl_build_budget(ctx);
+    m_settings.use_time_limit(ctx, true);
     m_cut_sum = 0;
     m_gather_points = 0;
     RenderResult r = PixelIntegrator::render(ctx);

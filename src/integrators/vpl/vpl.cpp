@@ -16,7 +16,7 @@ void VplIntegrator::prepare(const Scene& scene) {
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
-    m_settings.lights.vpl_budget = vpl_build_budget(ctx);
+    m_settings.use_time_limit(ctx, false);
     m_lit.reset();
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
