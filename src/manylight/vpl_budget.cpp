@@ -11,6 +11,22 @@
 #include "render/integrator.h"
 
 namespace ml {
+namespace {
+
+// Appends from's VPLs to `to` as sample_vpls would have made them there.
+void append_set(PointLightSet&& from, PointLightSet& to) {
+    const auto offset = int32_t(to.surfaces.size());
+    for (PointLight pl : from.lights) {
+        if (pl.surface >= 0) pl.surface += offset;
+        to.lights.push_back(pl);
+    }
+    to.surfaces.insert(to.surfaces.end(), from.surfaces.begin(), from.surfaces.end());
+    for (auto& arena : from.arenas) to.arenas.push_back(std::move(arena));
+    to.vpls += from.vpls;
+    to.light_paths += from.light_paths;
+}
+
+}  // namespace
 
 VplBudget vpl_build_budget(const RenderContext& ctx) {
     VplBudget b;
@@ -48,28 +64,37 @@ int sample_vpls_within(const Scene& scene, const PerspectiveCamera* camera,
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
-    // Step 1: probes of kVplFirstProbe, twice that, ..., each built and dropped, until one
-    // took kVplProbeShare of the budget, or its mean cost says the whole count fits.
+    // Step 1: probes of kVplFirstProbe, twice that, ..., each built (and timed with what the
+    // caller builds over it), until one took kVplProbeShare of the budget, or its mean cost says
+    // the whole count fits. The last is kept: where no more fit, it is the set.
     VplProbe smaller, larger;
+    PointLightSet last;
     for (int n = kVplFirstProbe; 4 * int64_t(n) <= requested; n *= 2) {
         VplOptions probe = options;
         probe.count = n;
-        PointLightSet dropped;
+        last = PointLightSet();
         auto t0 = std::chrono::steady_clock::now();
-        sample_vpls(scene, camera, probe, dropped);
-        if (budget.also_timed) budget.also_timed(dropped);
+        sample_vpls(scene, camera, probe, last);
+        if (budget.also_timed) budget.also_timed(last);
         smaller = larger;
         larger = {n, since(t0)};
         double left = budget.seconds - since(start);
         if (larger.seconds * double(requested) / double(n) <= left) break;
         if (larger.seconds >= kVplProbeShare * budget.seconds) break;
     }
-    // Step 2: the count that fits the time left, the least over the ranks (every rank must
-    // build the same set, and each timed its own probes).
+    // Step 2: the count that fits the time left (the last probe's, already built, where no
+    // more fit), the least over the ranks (every rank must build the same set, and each timed
+    // its own probes).
     int count = fit_vpl_count(requested, smaller, larger, budget.seconds - since(start));
+    count = std::max(count, larger.count);
     if (budget.world && budget.world->size() > 1)
         count = int(budget.world->all_min(int64_t(count)));
-    // Step 3: the set itself.
+    // Step 3: the set: the last probe's where it has that count (sample_vpls made it), else
+    // built.
+    if (count == larger.count) {
+        append_set(std::move(last), set);
+        return count;
+    }
     VplOptions o = options;
     o.count = count;
     sample_vpls(scene, camera, o, set);
