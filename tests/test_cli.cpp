@@ -8,6 +8,8 @@
 #include <fstream>
 #include <string>
 
+#include "film/image.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -283,6 +285,31 @@ TEST_F(Cli, CutIntegratorsFinishTheirFirstPassUnderATimeLimit) {
         EXPECT_NE(r.output.find("to end a pass within --time-limit"), std::string::npos)
             << r.output;
     }
+}
+
+// A VPL sampler that cannot build its count within a time limit builds fewer (manylight/
+// vpl_budget.h): the render phase still ends within the contract's 10% of the limit (plus a
+// little for a loaded machine), says so in a warning and the stats, and the image is lit.
+TEST_F(Cli, VplBuildFitsTheTimeLimit) {
+    const double limit = 4;
+    Result r =
+        run("render --resolution 32x32 --integrator mdlightcuts --set vpl.sampler=bidirectional "
+            "--set vpl.count=3000000 --time-limit 4 -o " +
+            path("t.exr") + " --stats " + path("t.json"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream js(path("t.json"));
+    nlohmann::json stats = nlohmann::json::parse(js);
+    EXPECT_LT(stats.at("seconds").at("render").get<double>(), 1.1 * limit + 0.5) << stats;
+    EXPECT_EQ(stats.at("film").at("pixels_without_samples"), 0) << stats;
+    const nlohmann::json& md = stats.at("mdlightcuts");
+    EXPECT_EQ(md.at("vpl_count_requested").get<int>(), 3000000) << md;
+    EXPECT_LT(md.at("vpl_count_used").get<int>(), 3000000) << md;
+    EXPECT_NE(r.output.find("vpl.count was reduced from 3000000 to"), std::string::npos)
+        << r.output;
+    ml::Image img = ml::read_image(path("t.exr"));
+    double sum = 0;
+    for (const ml::RGB& p : img.pixels) sum += p.luminance();
+    EXPECT_GT(sum / double(img.pixels.size()), 0.01);
 }
 
 // `manylight view` and `render --look-at`: bad input is a clear error before anything listens.

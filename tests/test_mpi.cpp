@@ -210,3 +210,22 @@ TEST_F(Mpi, TimeLimitHoldsAcrossRanks) {
     EXPECT_GT(stats.at("spp").get<int>(), 0);
     for (double s : stats.at("mpi").at("seconds_render_per_rank")) EXPECT_LE(s, 1.5 + 0.5);
 }
+
+// A VPL build reduced by the time limit (manylight/vpl_budget.h): each rank times its own
+// probes and the ranks take the least count (one all_min each, paired: no hang), so every rank
+// shades with the same set; the render phase holds the limit on each.
+TEST_F(Mpi, ReducedVplCountIsAgreedAcrossRanks) {
+    const double limit = 4;
+    std::string out = path("vpls.exr");
+    Result r = shell(mpirun(2) + MANYLIGHT_BINARY +
+                     " render -q --threads 1 --integrator mdlightcuts --resolution 32x32"
+                     " --set vpl.sampler=bidirectional --set vpl.count=3000000 --time-limit 4"
+                     " -o " +
+                     out + " --stats " + out + ".json");
+    ASSERT_EQ(r.code, 0) << r.output;
+    nlohmann::json stats = nlohmann::json::parse(std::ifstream(out + ".json"));
+    EXPECT_LT(stats.at("mdlightcuts").at("vpl_count_used").get<int>(), 3000000) << stats;
+    EXPECT_EQ(stats.at("film").at("pixels_without_samples"), 0) << stats;
+    for (double s : stats.at("mpi").at("seconds_render_per_rank"))
+        EXPECT_LE(s, 1.1 * limit + 0.5) << stats;
+}

@@ -99,6 +99,9 @@ struct PointLightSet {
     size_t vpls = 0;                                             // how many of the lights are VPLs
     size_t light_paths = 0;                                      // light paths traced for the VPLs
     double seconds = 0;                                          // time to build the set
+    // The VPL count asked for (vpl.count) and the one the sampler was given: fewer where a
+    // time limit allowed no more (manylight/vpl_budget.h).
+    int vpl_count_requested = 0, vpl_count_used = 0;
 };
 
 // Intensity of `pl` leaving towards unit direction `w` (from the light; ignored for

@@ -103,6 +103,27 @@ void ManyLightSettings::use_render_seed(uint64_t render_seed) {
     lights.seed = explicit_seed.value_or(render_seed);
 }
 
+namespace {
+
+// The light tree's options as build_light_tree uses them.
+LightTreeOptions light_tree_options(const Scene& scene, const ManyLightSettings& settings) {
+    LightTreeOptions opts;
+    opts.seed = settings.lights.seed;
+    opts.scene_diagonal = length(scene.bounds().diagonal());
+    return opts;
+}
+
+}  // namespace
+
+void ManyLightSettings::use_time_limit(const RenderContext& ctx, bool with_tree) {
+    lights.vpl_budget = vpl_build_budget(ctx);
+    if (!with_tree || !(lights.vpl_budget.seconds > 0)) return;
+    LightTreeOptions opts = light_tree_options(ctx.scene, *this);
+    lights.vpl_budget.also_timed = [opts](const PointLightSet& set) {
+        [[maybe_unused]] LightTree tree(set.lights, opts);
+    };
+}
+
 void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
                        SampledDirectLight* direct) {
     *set = build_point_light_set(scene, settings.lights);
@@ -138,23 +159,22 @@ nlohmann::json cut_cap_json(const CutCapPlan& plan) {
 }
 
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {
-    return {{"point_light_seconds", set.seconds},
-            {"omni", set.omni},
-            {"oriented", set.oriented},
-            {"directional", set.directional},
-            {"glossy", set.glossy},
-            {"light_paths", set.light_paths},
-            {"direct", direct.empty() ? "points" : "sample"},
-            {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+    nlohmann::json j = {{"point_light_seconds", set.seconds},
+                        {"omni", set.omni},
+                        {"oriented", set.oriented},
+                        {"directional", set.directional},
+                        {"glossy", set.glossy},
+                        {"light_paths", set.light_paths},
+                        {"direct", direct.empty() ? "points" : "sample"},
+                        {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+    j.update(vpl_budget_json(set));
+    return j;
 }
 
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,
                            const PointLightSet& set, double* seconds) {
     auto t0 = std::chrono::steady_clock::now();
-    LightTreeOptions opts;
-    opts.seed = settings.lights.seed;
-    opts.scene_diagonal = length(scene.bounds().diagonal());
-    LightTree tree(set.lights, opts);
+    LightTree tree(set.lights, light_tree_options(scene, settings));
     *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return tree;
 }

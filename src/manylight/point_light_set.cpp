@@ -5,7 +5,7 @@
 
 #include "core/rng.h"
 #include "lights/light.h"
-#include "manylight/vpl_sampler.h"
+#include "manylight/vpl_budget.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
 
@@ -63,7 +63,8 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
         vo.glossy = options.vpl_glossy;
         vo.seed = stream_seed(options.seed);
         vo.sampler = options.vpl_sampler;
-        sample_vpls(scene, options.camera, vo, set);
+        set.vpl_count_requested = vo.count;
+        set.vpl_count_used = sample_vpls_within(scene, options.camera, vo, options.vpl_budget, set);
     }
     for (const PointLight& pl : set.lights) {
         switch (pl.kind) {

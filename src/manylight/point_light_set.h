@@ -6,6 +6,7 @@
 
 #include "core/math.h"
 #include "lights/point_lights.h"
+#include "manylight/vpl_budget.h"
 #include "manylight/vpl_generator.h"
 #include "sampling/warps.h"  // shifted_hammersley, which lived here
 
@@ -28,6 +29,8 @@ struct PointLightOptions {
     VplSamplerOptions vpl_sampler;  // vpl.sampler and its settings (manylight/vpl_sampler.h)
     // The render's camera, which every sampler but `standard` needs (set before building).
     const PerspectiveCamera* camera = nullptr;
+    // Under a time limit, what the VPL build may take (manylight/vpl_budget.h); none by default.
+    VplBudget vpl_budget;
 };
 
 // Emitters' point lights first (in scene light order), then the VPLs (in light-path order).

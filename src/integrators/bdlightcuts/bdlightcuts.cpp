@@ -234,6 +234,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
 RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
     build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
     m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
@@ -297,6 +298,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.spp = int(samples_done);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
     double pixel_passes = double(std::max<uint64_t>(1, m_pixel_passes.load()));
     double pixels = double(ctx.film.width()) * ctx.film.height();
     nlohmann::json figures = {{"samples", m_samples},

@@ -196,6 +196,7 @@ void IgiIntegrator::shade_row_vpls(const Scene& scene, RowState& rs) const {
 RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     const Scene& scene = ctx.scene;
     m_many.use_render_seed(ctx.seed);
+    m_many.use_time_limit(ctx, false);
     build_many_lights(scene, m_many, &m_set, &m_direct);
 
     // The VPLs dealt round-robin to the sub-buffers (VPLs are in light-path order, so every
@@ -316,6 +317,7 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
 
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
     nlohmann::json figures = many_light_figures(m_set, m_direct);
     figures["interleave"] = fmt::format("{}x{}", m_igi.n, m_igi.m);
     figures["filter"] = m_igi.filter;

@@ -52,6 +52,7 @@ void LightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_settings.use_time_limit(ctx, true);
     m_width = ctx.film.width();
     m_pixel_cut.assign(size_t(ctx.film.width()) * ctx.film.height(), 0.f);
     m_pixel_samples.assign(m_pixel_cut.size(), 0);
@@ -65,6 +66,7 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     RenderResult r = m_reconstruct > 1 ? render_reconstructed(ctx) : PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) r.warnings.push_back(w);
     uint64_t n = m_gather_points.load();
     double pixels = double(ctx.film.width()) * ctx.film.height() * std::max(1, r.spp);
     double shadow_per_pixel = double(stats::total().shadow) / pixels;

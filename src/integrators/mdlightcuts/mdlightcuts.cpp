@@ -56,6 +56,7 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_settings.use_time_limit(ctx, true);
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
@@ -92,6 +93,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     result.spp = int(samples_done);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
     result.stats["mdlightcuts"] = figures_json(ctx, done);
     result.stats["mdlightcuts"]["last_pass_samples"] = samples_done - int64_t(done) * m_pass_samples;
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));

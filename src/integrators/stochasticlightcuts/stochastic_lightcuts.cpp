@@ -26,11 +26,13 @@ void StochasticLightcutsIntegrator::prepare(const Scene& scene) {
 RenderResult StochasticLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_settings.use_time_limit(ctx, true);
     m_cut_sum = 0;
     m_gather_points = 0;
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) r.warnings.push_back(w);
     uint64_t n = m_gather_points.load();
     double pixels = double(ctx.film.width()) * ctx.film.height() * std::max(1, r.spp);
     nlohmann::json& s = r.stats["stochasticlightcuts"];

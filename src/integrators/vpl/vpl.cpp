@@ -16,10 +16,12 @@ void VplIntegrator::prepare(const Scene& scene) {
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    m_settings.use_time_limit(ctx, false);
     m_lit.reset();
     RenderResult r = PixelIntegrator::render(ctx);
     r.point_lights = m_set.lights.size();
     r.vpls = m_set.vpls;
+    if (std::string w = vpl_budget_warning(m_set); !w.empty()) r.warnings.push_back(w);
     size_t vpl_lights = 0, lighting = 0;
     for (size_t i = 0; i < m_set.lights.size(); ++i)
         if (m_set.lights[i].is_vpl) {
@@ -27,6 +29,7 @@ RenderResult VplIntegrator::render(const RenderContext& ctx) {
             if (m_lit && m_lit[i].load(std::memory_order_relaxed)) ++lighting;
         }
     r.stats["vpl"] = {{"vpl_lights", vpl_lights}, {"lighting", lighting}};
+    r.stats["vpl"].update(vpl_budget_json(m_set));
     return r;
 }
 
