@@ -193,7 +193,7 @@ TEST(CutCap, RenderSamplePassesEndsWithAPassThatFillsTheTime) {
     std::vector<std::vector<std::pair<int, int>>> calls(w * h);
     std::atomic<int64_t> whole_end_us{0};
     const int n = 64;
-    int64_t total = render_sample_passes(ctx, n, 0.0, [&](Point2i p, int first, int samples) {
+    SamplePasses done = render_sample_passes(ctx, n, 0.0, [&](Point2i p, int first, int samples) {
         // About 0.6 s a pass of 64 samples on 2 threads (4 tiles of 8x8 pixels).
         std::this_thread::sleep_for(std::chrono::microseconds(73 * samples));
         calls[p.y * w + p.x].push_back({first, samples});
@@ -205,8 +205,11 @@ TEST(CutCap, RenderSamplePassesEndsWithAPassThatFillsTheTime) {
     });
     EXPECT_LT(ctx.elapsed(), limit + 0.3);
     // On a machine so loaded that not even the first pass ended in time, nothing else holds.
+    const int64_t total = done.samples, last = done.last_samples;
     if (total == 0) return;
-    const int64_t whole = total / n * n, last = total - whole;
+    EXPECT_EQ(total, done.whole * n + last);
+    EXPECT_LT(last, n);
+    EXPECT_GT(done.pass_seconds, 0);
     for (const auto& pixel : calls) {
         ASSERT_FALSE(pixel.empty());
         for (size_t i = 0; i < pixel.size(); ++i) {

@@ -118,27 +118,32 @@ int remainder_samples(int pass_samples, double pass_seconds, double fixed_share,
     return int(std::clamp(std::floor(k), 0.0, double(pass_samples - 1)));
 }
 
-int64_t render_sample_passes(const RenderContext& ctx, int pass_samples, double fixed_share,
-                             const std::function<void(Point2i pixel, int first, int samples)>& fn) {
+SamplePasses render_sample_passes(
+    const RenderContext& ctx, int pass_samples, double fixed_share,
+    const std::function<void(Point2i pixel, int first, int samples)>& fn) {
     const int64_t n = pass_samples, passes = (int64_t(ctx.spp) + n - 1) / n;
     const double start = ctx.elapsed();
-    const int64_t done = render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
+    SamplePasses out;
+    out.whole = render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
         for (int64_t p = p0; p < p1; ++p) fn(pixel, int(p * n), int(n));
     });
-    int64_t samples = done * n;
+    out.samples = out.whole * n;
+    if (out.whole > 0) out.pass_seconds = (ctx.elapsed() - start) / double(out.whole);
     // A round cut short by the limit leaves its samples in some tiles: none is taken again.
-    if (!(ctx.time_limit > 0) || done == 0 || done >= passes || ctx.out_of_time()) return samples;
-    double per_pass = (ctx.elapsed() - start) / double(done);
-    int64_t k = remainder_samples(pass_samples, per_pass, fixed_share,
+    if (!(ctx.time_limit > 0) || out.whole == 0 || out.whole >= passes || ctx.out_of_time())
+        return out;
+    int64_t k = remainder_samples(pass_samples, out.pass_seconds, fixed_share,
                                   ctx.time_limit - ctx.elapsed());
-    k = std::min<int64_t>(k, int64_t(ctx.spp) - samples);
+    k = std::min<int64_t>(k, int64_t(ctx.spp) - out.samples);
     if (ctx.ranks() > 1) k = ctx.world->all_min(k);
-    if (k <= 0) return samples;
-    if (render_pixels(ctx, 1, [&](Point2i pixel, int64_t, int64_t) {
-            fn(pixel, int(samples), int(k));
-        }) == 1)
-        samples += k;
-    return samples;
+    if (k <= 0) return out;
+    const int first = int(out.samples);
+    if (render_pixels(ctx, 1, [&](Point2i pixel, int64_t, int64_t) { fn(pixel, first, int(k)); }) ==
+        1) {
+        out.samples += k;
+        out.last_samples = int(k);
+    }
+    return out;
 }
 
 CutProbe probe_cuts(int width, int height, int lowest, int max_cut, int samples, double seconds,

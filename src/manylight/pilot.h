@@ -74,9 +74,16 @@ int remainder_samples(int pass_samples, double pass_seconds, double fixed_share,
 // where the time left after the last whole pass has no room for another, one last pass of
 // remainder_samples fills it (each pixel's passes add to the film by their samples' weights, so
 // a pass of fewer samples keeps its mean right). Across ranks, every rank takes the least
-// remainder. Returns the samples per pixel done (a pass cut short by the limit does not count).
-int64_t render_sample_passes(const RenderContext& ctx, int pass_samples, double fixed_share,
-                             const std::function<void(Point2i pixel, int first, int samples)>& fn);
+// remainder. Returns what was done (a pass cut short by the limit does not count).
+struct SamplePasses {
+    int64_t samples = 0;      // per pixel, in the passes that counted
+    int64_t whole = 0;        // whole passes among them
+    int last_samples = 0;     // the last pass's samples (0: none ran or it was cut short)
+    double pass_seconds = 0;  // the whole passes' mean wall time
+};
+SamplePasses render_sample_passes(
+    const RenderContext& ctx, int pass_samples, double fixed_share,
+    const std::function<void(Point2i pixel, int first, int samples)>& fn);
 
 // The share of the time left that a time-limited render plans its first pass to take.
 constexpr double kFirstPassTimeShare = 0.75;

@@ -282,7 +282,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         });
     const int pass_cap = cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, cap_plan);
-    const int64_t samples_done = render_sample_passes(
+    const SamplePasses done_passes = render_sample_passes(
         ctx, m_pass_samples, cap_plan.fixed_share, [&](Point2i pixel, int first, int samples) {
             PassEstimate e = estimate_pass(ctx, states.local(), pixel, first, pass_cap, samples);
             if (e.weight_sum == 0) return;
@@ -292,10 +292,10 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
             if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
         });
-    const int done = int(samples_done / m_pass_samples);
+    const int done = int(done_passes.whole);
 
     RenderResult result;
-    result.spp = int(samples_done);
+    result.spp = int(done_passes.samples);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
@@ -318,7 +318,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                                 {"c_d", m_weights.c_d},
                                 {"spread", m_weights.spread}}},
                               {"passes", done},
-                              {"last_pass_samples", samples_done - int64_t(done) * m_pass_samples},
+                              {"last_pass_samples", done_passes.last_samples},
+                              {"pass_seconds", done_passes.pass_seconds},
                               {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
                               {"capped_fraction", double(m_capped.load()) / pixel_passes},
                               {"vsps_per_pixel_pass", double(m_vsps.load()) / pixel_passes},

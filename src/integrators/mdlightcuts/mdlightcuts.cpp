@@ -83,19 +83,20 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_pass_samples = pass_samples(m_samples, m_cap_plan);
     // Passes of m_pass_samples samples per pixel, in the render loop's rounds (as
     // PixelIntegrator takes samples), and under a time limit a last, smaller one that fills it.
-    const int64_t samples_done = render_sample_passes(
+    const SamplePasses done_passes = render_sample_passes(
         ctx, m_pass_samples, m_cap_plan.fixed_share, [&](Point2i pixel, int first, int samples) {
             render_pixel_pass(ctx, states.local(), pixel, first, samples);
         });
-    const int done = int(samples_done / m_pass_samples);
+    const int done = int(done_passes.whole);
 
     RenderResult result;
-    result.spp = int(samples_done);
+    result.spp = int(done_passes.samples);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
     if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
     result.stats["mdlightcuts"] = figures_json(ctx, done);
-    result.stats["mdlightcuts"]["last_pass_samples"] = samples_done - int64_t(done) * m_pass_samples;
+    result.stats["mdlightcuts"]["last_pass_samples"] = done_passes.last_samples;
+    result.stats["mdlightcuts"]["pass_seconds"] = done_passes.pass_seconds;
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning =
         capped_cut_warning(name(), "pixel passes", capped, m_max_cut, m_set, m_pass_cap);
