@@ -12,7 +12,6 @@
 #include <tbb/parallel_sort.h>
 #include <tbb/task_group.h>
 
-#include <algorithm>
 #include <cstddef>
 
 namespace ml {
@@ -26,13 +25,6 @@ using TaskGroup = tbb::task_group;
 
 // The number of threads parallel work uses by default (the machine's hardware threads).
 inline int default_thread_count() { return tbb::info::default_concurrency(); }
-
-// The number of threads parallel work uses now: default_thread_count() under a ThreadLimit.
-inline int active_thread_count() {
-    size_t limit =
-        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
-    return int(std::min<size_t>(limit, size_t(default_thread_count())));
-}
 
 // While alive, at most `threads` threads run parallel work (the --threads option).
 class ThreadLimit {
