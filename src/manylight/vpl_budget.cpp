@@ -101,12 +101,12 @@ int sample_vpls_within(const Scene& scene, const PerspectiveCamera* camera,
     return count;
 }
 
-std::string vpl_budget_warning(const PointLightSet& set) {
+std::string vpl_budget_warning(const PointLightSet& set, const char* setting) {
     if (set.vpl_count_used >= set.vpl_count_requested) return "";
     return fmt::format(
-        "to build the VPLs within {:.0f}% of --time-limit, vpl.count was reduced from {} to {} "
+        "to build the VPLs within {:.0f}% of --time-limit, {} was reduced from {} to {} "
         "(the same estimate, with more noise): a longer time limit lifts it",
-        100 * kVplBuildTimeShare, set.vpl_count_requested, set.vpl_count_used);
+        100 * kVplBuildTimeShare, setting, set.vpl_count_requested, set.vpl_count_used);
 }
 
 nlohmann::json vpl_budget_json(const PointLightSet& set) {

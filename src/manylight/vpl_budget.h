@@ -60,8 +60,9 @@ int sample_vpls_within(const Scene& scene, const PerspectiveCamera* camera,
                        const VplOptions& options, const VplBudget& budget, PointLightSet& set);
 
 // For the render result: that the time limit reduced the VPL count, from what to what (empty
-// when it did not); and the --stats figures (vpl_count_requested, vpl_count_used).
-std::string vpl_budget_warning(const PointLightSet& set);
+// when it did not), naming the integrator's count setting; and the --stats figures
+// (vpl_count_requested, vpl_count_used).
+std::string vpl_budget_warning(const PointLightSet& set, const char* setting = "vpl.count");
 nlohmann::json vpl_budget_json(const PointLightSet& set);
 
 }  // namespace ml

@@ -317,7 +317,8 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
 
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
-    if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
+    if (std::string w = vpl_budget_warning(m_set, "igi.vpls"); !w.empty())
+        result.warnings.push_back(w);
     nlohmann::json figures = many_light_figures(m_set, m_direct);
     figures["interleave"] = fmt::format("{}x{}", m_igi.n, m_igi.m);
     figures["filter"] = m_igi.filter;
