@@ -334,11 +334,9 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     return result;
 }
 
-BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
-                                                                         ThreadState& ts,
-                                                                         Point2i pixel, int first,
-                                                                         int max_cut,
-                                                                         int samples) const {
+BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
+    const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first_sample, int max_cut,
+    int samples) const {
     const Scene& scene = ctx.scene;
     Sampler& sampler = *ts.sampler;
     ts.points.clear();
@@ -349,7 +347,7 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(const R
     double weight_sum = 0;
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
-        sampler.start_pixel_sample(pixel, first + s);
+        sampler.start_pixel_sample(pixel, first_sample + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

@@ -48,10 +48,10 @@ private:
         int pairs = 0;
         size_t vsps = 0;
     };
-    // The pass of `pixel` over its samples first to first + samples - 1 (samples 0: the pass's
-    // m_pass_samples), with cuts of at most max_cut pairs.
-    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first,
-                               int max_cut, int samples = 0) const;
+    // The pass of `pixel` over its samples first_sample to first_sample + samples - 1 (samples 0:
+    // the pass's m_pass_samples), with cuts of at most max_cut pairs.
+    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
+                               int first_sample, int max_cut, int samples = 0) const;
     // One eye path: its VSPs into ts, the weighted emission it meets returned.
     RGB trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
                   float filter_weight) const;

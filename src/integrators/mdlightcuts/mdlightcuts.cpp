@@ -130,11 +130,9 @@ void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadSt
     ++m_pixel_passes_done[i];
 }
 
-MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const RenderContext& ctx,
-                                                                         ThreadState& ts,
-                                                                         Point2i pixel, int first,
-                                                                         int max_cut,
-                                                                         int samples) const {
+MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(
+    const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first_sample, int max_cut,
+    int samples) const {
     const Scene& scene = ctx.scene;
     Sampler& sampler = *ts.sampler;
     ts.points.clear();
@@ -146,7 +144,7 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(const R
     ts.uniforms.clear();
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
-        sampler.start_pixel_sample(pixel, first + s);
+        sampler.start_pixel_sample(pixel, first_sample + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();

@@ -44,10 +44,10 @@ private:
         int pairs = 0;          // the cut's size
         size_t gather_points = 0;
     };
-    // The pass of `pixel` over its samples first to first + samples - 1 (samples 0: the pass's
-    // m_pass_samples), with cuts of at most max_cut pairs.
-    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first,
-                               int max_cut, int samples = 0) const;
+    // The pass of `pixel` over its samples first_sample to first_sample + samples - 1 (samples 0:
+    // the pass's m_pass_samples), with cuts of at most max_cut pairs.
+    PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
+                               int first_sample, int max_cut, int samples = 0) const;
     // The same, added to the film and counted in the figures.
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first,
                            int samples) const;
