@@ -9,6 +9,11 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
                   ScratchBuffer& scratch, const LightSampler& light_sampler,
                   const PathTraceOptions& options, const FirstBounceWeight* first) {
     RGB L;
+    // The first bounce's weight, kept out of beta: Russian roulette looks at the throughput
+    // alone, as in a path without the weight (on the weighted throughput, paths of small weight
+    // that survive carry their whole contribution: more fireflies, bench/RESULTS.md, issue 17,
+    // session 12).
+    float path_weight = 1.f;
     float eta_scale = 1.f;  // radiance scaling by refraction, undone for Russian roulette
     for (;; ++depth) {      // si: the vertex after `depth` scattering vertices
         if (depth >= options.max_depth) break;
@@ -26,7 +31,7 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
                 Vec3 wi;
                 RGB Ld = estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, &wi);
                 if (weight && !Ld.is_black()) Ld *= weight->weight(bsdf, si.wo, wi, false);
-                L += beta * Ld / sl->pmf;
+                L += path_weight * beta * Ld / sl->pmf;
             }
         }
 
@@ -36,7 +41,8 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
         beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
-        if (weight) beta *= weight->weight(bsdf, si.wo, bs->wi, bs->is_specular());
+        if (weight) path_weight = weight->weight(bsdf, si.wo, bs->wi, bs->is_specular());
+        if (path_weight == 0.f) break;
         const bool specular_bounce = bs->is_specular();
         const float prev_pdf = bs->pdf_solid_angle;
         if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
@@ -55,8 +61,9 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
 
         // The emission the BSDF sample finds, weighted against the light samples.
         bool hit = scene.intersect(ray, &si);
-        L += beta * emission_along(scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf,
-                                   prev_ctx, &light_sampler);
+        L += path_weight * beta *
+             emission_along(scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf, prev_ctx,
+                            &light_sampler);
         if (!hit) break;
     }
     return L;
