@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bidir_test_helpers.h"
+#include "core/error.h"
 #include "core/rng.h"
 #include "integrators/bdlightcuts/split_weights.h"
 #include "render_helpers.h"
@@ -472,5 +473,21 @@ TEST(BdLightcuts, RemainderPathTracedAgreesWithPathWhereDroppingItDarkens) {
         double rel = 0;
         EXPECT_LT(image_z(drop, ref, c, &rel), -4) << "rest=drop not dark in channel " << c;
         EXPECT_LT(rel, -0.02) << "channel " << c;
+    }
+}
+
+TEST(BdLightcuts, RestTakesPathOrDrop) {
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 1;
+    opt.width = opt.height = 8;
+    opt.set = {{"vpl.count", "100"}, {"bdlightcuts.rest", "trace"}};
+    try {
+        test::render_text(kSlot, opt);
+        ADD_FAILURE() << "bdlightcuts.rest=trace accepted";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("bdlightcuts.rest must be path or drop"),
+                  std::string::npos)
+            << e.what();
     }
 }
