@@ -491,3 +491,25 @@ TEST(BdLightcuts, RestTakesPathOrDrop) {
             << e.what();
     }
 }
+
+TEST(BdLightcuts, RemainderGivesTheSameImageAtOneAndTwoThreads) {
+    // The remainder draws its numbers from the pixel sample's sampler after the eye path's, so a
+    // seed gives one image at any thread count, and another seed another.
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 8;
+    opt.width = opt.height = 16;
+    opt.sampler = "independent";
+    opt.seed = 5;
+    opt.set = bdlc({});
+    opt.threads = 1;
+    RenderOutput one = test::render_text(kSlot, opt);
+    EXPECT_GT(
+        one.figures.integrator_stats["bdlightcuts"]["rest_paths_per_pixel_pass"].get<double>(), 0.5)
+        << "the slot's eye paths are continued";
+    opt.threads = 2;
+    Image two = test::render_text(kSlot, opt).image;
+    EXPECT_TRUE(same_image(one.image, two));
+    opt.seed = 6;
+    EXPECT_FALSE(same_image(one.image, test::render_text(kSlot, opt).image));
+}
