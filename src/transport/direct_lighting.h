@@ -25,8 +25,9 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 // sampling unless `mis` is false (delta lights take no weight). `light_pmf` is the probability
 // that the caller chose this light: the light strategy's density is pmf * pdf, as in the weight
 // emission_along gives the BSDF strategy. The result is not divided by it (the caller does).
+// `wi`, if given, receives the sample's direction towards the light where the result is not 0.
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
-                    const Light& light, const Vec2& u_light, bool mis = true,
-                    float light_pmf = 1.f);
+                    const Light& light, const Vec2& u_light, bool mis = true, float light_pmf = 1.f,
+                    Vec3* wi = nullptr);
 
 }  // namespace ml

@@ -11,6 +11,7 @@
 #include "materials/material.h"
 #include "render/render_loop.h"
 #include "transport/direct_lighting.h"
+#include "transport/path_tracer.h"
 #include "transport/spawn.h"
 
 namespace ml {
@@ -112,6 +113,33 @@ private:
     int m_max_depth;
 };
 
+// The remainder r of the paths that leave x_{J+1} (the vertex after the last VSP, x_J) along wi:
+// D_{J+1} is x_{J+1}'s lobe between x_J and wi (trace_eye's D for w_J); a delta lobe's sample
+// makes split J weigh 0 (pending_mt < 0).
+class RemainderWeight final : public FirstBounceWeight {
+public:
+    RemainderWeight(const SplitWeightOptions& o, float prefix, float pending_mt, float pending_mu)
+        : m_o(o), m_prefix(prefix), m_pending_mt(pending_mt), m_pending_mu(pending_mu) {}
+
+    float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular) const override {
+        if (specular) return remainder_weight(m_o, m_prefix, -1.f, 0.f, m_pending_mu);
+        float d = bsdf.eval(wo, wi).max_component() * abs_dot(wo, bsdf.frame().n);
+        return remainder_weight(m_o, m_prefix, m_pending_mt, d, m_pending_mu);
+    }
+
+    bool vanishes(const Bsdf& bsdf, const Vec3& wo) const override {
+        if ((bsdf.flags() & kBxdfSpecular) &&
+            !remainder_vanishes(m_o, m_prefix, -1.f, 0.f, m_pending_mu))
+            return false;
+        return remainder_vanishes(m_o, m_prefix, m_pending_mt, max_vsp_density(bsdf, wo),
+                                  m_pending_mu);
+    }
+
+private:
+    const SplitWeightOptions& m_o;
+    float m_prefix, m_pending_mt, m_pending_mu;
+};
+
 }  // namespace
 
 struct BdLightcutsIntegrator::ThreadState {
@@ -145,6 +173,10 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
 
     m_samples = settings.get_int("samples", m_samples);
     m_eye_length = settings.get_int("eye_length", m_eye_length);
+    const std::string rest = settings.get_string("rest", m_rest_path ? "path" : "drop");
+    if (rest != "path" && rest != "drop")
+        throw UsageError("bdlightcuts.rest must be path or drop, not '" + rest + "'");
+    m_rest_path = rest == "path";
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_floor = settings.get_float("floor", m_floor);
@@ -165,7 +197,7 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
 }
 
 RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
-                                     float filter_weight) const {
+                                     float filter_weight, bool* rested) const {
     RGB L, beta(1.f);
     float prefix = 0, theta = 0;
     // The split at the last non-delta eye vertex, waiting for D at the next vertex.
@@ -188,7 +220,20 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             }
             L += beta * le * emission_weight(m_weights, pre, spread_mu(m_weights, theta));
         }
-        if (!hit || depth >= m_settings.max_depth || vsps >= m_eye_length) break;
+        if (!hit || depth >= m_settings.max_depth) break;
+        if (vsps >= m_eye_length) {
+            // The remainder: paths through x_{J+1} = si longer than the eye path, weighted by
+            // what splits 1 ... J leave (trace_eye's prefix and pending split are r's inputs).
+            float pending_mt = pending ? pending_m * t_prev : -1.f;
+            if (m_rest_path &&
+                !remainder_vanishes(m_weights, prefix, pending_mt, kInfinity, pending_mu)) {
+                RemainderWeight r(m_weights, prefix, pending_mt, pending_mu);
+                L += continue_path(scene, si, depth, beta, sampler, ts.scratch, *m_rest_lights,
+                                   {m_settings.max_depth, 1}, &r);
+                *rested = true;
+            }
+            break;
+        }
         Bsdf bsdf = hit_bsdf(si, ts.scratch);
         if (!bsdf) break;
         Vec3 n = bsdf.frame().n;
@@ -237,8 +282,9 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
     build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
+    if (m_rest_path) m_rest_lights = std::make_unique<LightSampler>("tree", ctx.scene.lights());
     m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
-    m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0;
+    m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0, m_rests = 0;
     // Each light node's flux, children before parents (whatever order the tree stores them).
     std::vector<RGB> node_flux(m_tree.node_count());
     std::vector<uint8_t> summed(m_tree.node_count(), 0);
@@ -290,6 +336,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
             m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
             m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
+            m_rests.fetch_add(uint64_t(e.rests), std::memory_order_relaxed);
             if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
         });
     const int done = int(done_passes.whole);
@@ -304,6 +351,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     nlohmann::json figures = {{"samples", m_samples},
                               {"pass_samples", m_pass_samples},
                               {"eye_length", m_eye_length},
+                              {"rest", m_rest_path ? "path" : "drop"},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
                               {"time_cap", cut_cap_json(cap_plan)},
@@ -323,6 +371,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
                               {"capped_fraction", double(m_capped.load()) / pixel_passes},
                               {"vsps_per_pixel_pass", double(m_vsps.load()) / pixel_passes},
+                              {"rest_paths_per_pixel_pass", double(m_rests.load()) / pixel_passes},
                               {"shadow_rays_per_pixel", double(stats::total().shadow) / pixels},
                               {"tree_build_seconds", m_tree_seconds}};
     figures.update(many_light_figures(m_set, unused_direct));
@@ -345,13 +394,16 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     // 1. The pass's eye paths: their VSPs, and the emission they meet, weighted by filter.
     RGB known;
     double weight_sum = 0;
+    int rests = 0;
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
         sampler.start_pixel_sample(pixel, first_sample + s);
         float weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
         size_t first = ts.points.size();
-        RGB L = trace_eye(scene, ray, sampler, ts, weight);
+        bool rested = false;
+        RGB L = trace_eye(scene, ray, sampler, ts, weight, &rested);
+        rests += rested;
         if (!L.is_finite()) {
             ts.points.resize(first);
             ts.uniforms.resize(first);
@@ -394,6 +446,7 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     out.weight_sum = weight_sum;
     out.pairs = pairs;
     out.vsps = ts.points.size();
+    out.rests = rests;
     return out;
 }
 

@@ -10,12 +10,16 @@
 // everything on the first connectable eye vertex: the unbiased `vpl`/`mdlightcuts` estimator
 // without clamping; clamping, diffuse VPLs and the spread exclusion move energy to longer eye
 // paths or drop it. A VSP whose pairs all weigh 0 (vsp_weight_bound) stays out of the VSP tree.
+// What no split up to the eye-path length takes, the remainder r (remainder_weight), is path
+// traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`), or dropped.
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <vector>
 
 #include "integrators/bdlightcuts/split_weights.h"
+#include "lights/light_sampler.h"
 #include "manylight/light_tree.h"
 #include "manylight/many_lights.h"
 #include "manylight/point_light_set.h"
@@ -47,14 +51,16 @@ private:
         double weight_sum = 0;
         int pairs = 0;
         size_t vsps = 0;
+        int rests = 0;  // eye paths continued by the path-traced remainder
     };
     // The pass of `pixel` over its samples first_sample to first_sample + samples - 1 (samples 0:
     // the pass's m_pass_samples), with cuts of at most max_cut pairs.
     PassEstimate estimate_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel,
                                int first_sample, int max_cut, int samples = 0) const;
-    // One eye path: its VSPs into ts, the weighted emission it meets returned.
+    // One eye path: its VSPs into ts; returned, the weighted emission it meets and, with
+    // m_rest_path, the remainder path traced past its last VSP (*rested: whether it was).
     RGB trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
-                  float filter_weight) const;
+                  float filter_weight, bool* rested) const;
 
     ManyLightSettings m_settings;
     // Defaults: bench/RESULTS.md, "Issue 17, Bidirectional Lightcuts".
@@ -62,6 +68,8 @@ private:
     int m_samples = 16;
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
     int m_eye_length = 2;
+    bool m_rest_path = true;                      // bdlightcuts.rest: path (true) or drop
+    std::unique_ptr<LightSampler> m_rest_lights;  // the remainder's next-event estimation
     float m_error = 0.1f;
     int m_max_cut = 300;
     float m_floor = 1.0f;
@@ -69,7 +77,8 @@ private:
     PointLightSet m_set;
     LightTree m_tree;
     double m_tree_seconds = 0;
-    mutable std::atomic<uint64_t> m_pair_sum{0}, m_pixel_passes{0}, m_vsps{0}, m_capped{0};
+    mutable std::atomic<uint64_t> m_pair_sum{0}, m_pixel_passes{0}, m_vsps{0}, m_capped{0},
+        m_rests{0};
 };
 
 }  // namespace ml

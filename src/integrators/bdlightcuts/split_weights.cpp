@@ -37,4 +37,21 @@ float vsp_weight_bound(const SplitWeightOptions& o, float prefix, float pending_
     return emission_weight(o, prefix, mu);
 }
 
+float remainder_weight(const SplitWeightOptions& o, float prefix, float pending_mt, float d,
+                       float pending_mu) {
+    float w = 0.f;
+    if (pending_mt >= 0)
+        w = split_weight(o, prefix, pending_mt > 0 ? pending_mt * d : 0.f, d, pending_mu);
+    // 1 - prefix - w_J, subtracted in this order: where the energy weight sets w_J = 1 - prefix,
+    // r is 0 exactly.
+    return std::max(0.f, (1.f - prefix) - w);
+}
+
+bool remainder_vanishes(const SplitWeightOptions& o, float prefix, float pending_mt, float d_max,
+                        float pending_mu) {
+    // r grows with D_{J+1} (w_J falls as M T D and D grow): at most its value at d_max.
+    constexpr float kRounding = 1e-6f;
+    return remainder_weight(o, prefix, pending_mt, d_max, pending_mu) <= kRounding;
+}
+
 }  // namespace ml

@@ -64,4 +64,19 @@ float emission_weight(const SplitWeightOptions& o, float prefix, float mu);
 float vsp_weight_bound(const SplitWeightOptions& o, float prefix, float pending_mt, float dj_max,
                        float pending_mu, float mu);
 
+// The remainder r = 1 - (w_1 + ... + w_J) of a path x_1 ... x_k (k >= J + 2) that no split up to
+// the eye-path length J takes, the weight with which `bdlightcuts.rest=path` path traces it past
+// x_{J+1}: `prefix` is w_1 + ... + w_{J-1}, pending_mt = M_J T_{J,J+1} (< 0: split J weighs 0 on
+// this path, x_J or x_{J+1} scattering by a delta lobe), pending_mu = mu_J and d = D_{J+1}, the
+// lobe at x_{J+1} between x_J and x_{J+2}. In [0, 1]; it only grows with d. Never below 0:
+// without the energy weight the splits may take more than 1 (a brightening), and the remainder
+// adds what they miss without taking anything off.
+float remainder_weight(const SplitWeightOptions& o, float prefix, float pending_mt, float d,
+                       float pending_mu);
+
+// Whether the remainder is 0 for every D_{J+1} up to d_max (+infinity where unknown): then no
+// path through x_{J+1} needs tracing. Within 1e-6 of 0 counts as 0 (the weights' rounding).
+bool remainder_vanishes(const SplitWeightOptions& o, float prefix, float pending_mt, float d_max,
+                        float pending_mu);
+
 }  // namespace ml

@@ -1,7 +1,7 @@
 #include "integrators/path/path.h"
 
-#include "materials/material.h"
 #include "transport/direct_lighting.h"
+#include "transport/path_tracer.h"
 
 namespace ml {
 
@@ -24,55 +24,13 @@ void PathIntegrator::prepare(const Scene& scene) {
 
 RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
                        ScratchBuffer& scratch, Point2i pixel) const {
-    RGB L, beta(1.f);
-    Ray ray = camera_ray;
-    bool specular_bounce = false;
-    float eta_scale = 1.f;  // radiance scaling by refraction, undone for Russian roulette
-    float prev_pdf = 0.f;   // solid-angle pdf of the BSDF sample that made `ray`
-    LightSampleContext prev_ctx;
     SurfaceInteraction si;
-    for (int depth = 0;; ++depth) {
-        bool hit = scene.intersect(ray, &si);
-        L += beta * emission_along(scene, ray, hit ? &si : nullptr, depth == 0 || specular_bounce,
-                                   prev_pdf, prev_ctx, m_light_sampler.get());
-        if (!hit) break;
-        if (depth == m_max_depth) break;
-
-        Bsdf bsdf = hit_bsdf(si, scratch);
-        if (!bsdf) break;
-
-        // Next-event estimation: one light chosen for this point, one sample on it.
-        float u_select = sampler.get_1d();
-        Vec2 u_light = sampler.get_2d();
-        if (bsdf.has_nonspecular()) {
-            if (auto sl = m_light_sampler->sample(light_context(si), u_select))
-                L += beta * estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf) /
-                     sl->pmf;
-        }
-
-        // Continue the path by sampling the BSDF.
-        float uc = sampler.get_1d();
-        Vec2 u = sampler.get_2d();
-        auto bs = bsdf.sample(si.wo, uc, u);
-        if (!bs) break;
-        beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
-        specular_bounce = bs->is_specular();
-        prev_pdf = bs->pdf_solid_angle;
-        if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
-        prev_ctx = light_context(si);
-        ray = spawn_ray(si, bs->wi);
-
-        // Russian roulette on the throughput without the refraction scaling.
-        float rr = (beta * eta_scale).max_component();
-        float u_rr = sampler.get_1d();
-        if (rr < 1.f && depth >= m_rr_depth) {
-            float q = std::max(0.f, 1.f - rr);
-            if (u_rr < q) break;
-            beta = beta / (1.f - q);
-        }
-        if (beta.is_black() || !beta.is_finite()) break;
-    }
-    return L;
+    bool hit = scene.intersect(camera_ray, &si);
+    RGB L = emission_along(scene, camera_ray, hit ? &si : nullptr, true, 0.f, {},
+                           m_light_sampler.get());
+    if (!hit) return L;
+    return L + continue_path(scene, si, 0, RGB(1.f), sampler, scratch, *m_light_sampler,
+                             {m_max_depth, m_rr_depth});
 }
 
 }  // namespace ml
