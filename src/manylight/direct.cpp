@@ -5,7 +5,8 @@
 
 namespace ml {
 
-SampledDirectLight::SampledDirectLight(const Scene& scene, int samples) : m_samples(samples) {
+SampledDirectLight::SampledDirectLight(const Scene& scene, int samples, bool mis)
+    : m_samples(samples), m_mis(mis) {
     std::vector<float> weights;
     for (const auto& l : scene.lights()) {
         float w = is_delta_light(l->type()) ? 0.f : std::max(0.f, l->power().luminance());
@@ -38,7 +39,9 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
         float chosen = 0;
         size_t index = m_choice.sample_discrete(u_select, &chosen);
         if (chosen > 0)
-            L += estimate_direct(scene, si, g.bsdf, *lights[index], u_light, true, chosen) / chosen;
+            L +=
+                estimate_direct(scene, si, g.bsdf, *lights[index], u_light, m_mis, chosen) / chosen;
+        if (!m_mis) continue;
         // BSDF sampling: its non-delta lobes only (a delta lobe is the camera path's to follow).
         auto bs = g.bsdf.sample(si.wo, uc, u_bsdf);
         if (!bs || bs->is_specular() || bs->pdf_solid_angle <= 0) continue;
