@@ -51,7 +51,7 @@ CONFIGS = {
 REFERENCE = ["igi.vpls=1024", "igi.interleave=1x1", "igi.filter=0"]
 # The viewer's moving frame as `render` gives it (apps/view_renderer.cpp, options_for).
 VIEWER_FRAME = ["igi.vpls=256", "igi.interleave=4x4", "igi.filter=1", "lights.direct_samples=1",
-                "lights.direct_mis=false", "igi.filter_direct=true"]
+                "lights.direct_mis=glossy", "igi.filter_direct=true"]
 
 
 def command(sets, out, stats, binary=None):

@@ -5,9 +5,10 @@
 // next-event estimation with multiple importance sampling, as the path tracer does: a light
 // chosen in proportion to power and a point on it, and a BSDF sample whose ray may find an
 // emitter, weighted by the power heuristic. The result is unbiased; delta lights (point, spot,
-// distant) stay point lights, which are exact for them. Without MIS (lights.direct_mis=false, the
-// viewer's moving frames) only the light samples are taken, with the lights' complete densities:
-// still unbiased, noisier on glossy surfaces, and without the BSDF sample's closest-hit ray.
+// distant) stay point lights, which are exact for them. With lights.direct_mis=glossy (the
+// viewer's moving frames) receivers without a glossy lobe take only the light samples, with the
+// lights' complete densities (still unbiased, and without the BSDF sample's closest-hit ray);
+// glossy receivers keep both with MIS.
 #pragma once
 
 #include <vector>
@@ -23,7 +24,7 @@ class SampledDirectLight {
 public:
     SampledDirectLight() = default;
     // The scene's non-delta lights; `samples` light and BSDF samples per gather point (with
-    // `mis` false: light samples only).
+    // `mis` false: light samples only where the receiver has no glossy lobe).
     SampledDirectLight(const Scene& scene, int samples, bool mis = true);
 
     bool empty() const { return m_count == 0; }

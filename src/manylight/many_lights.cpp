@@ -92,7 +92,10 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
     // Read only when sampling, so that a count given with `points` is reported as unused.
     if (m.lights.sampled_direct) {
         m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
-        m.direct_mis = s.get_bool("lights.direct_mis", m.direct_mis);
+        std::string mis = s.get_string("lights.direct_mis", "always");
+        if (mis != "always" && mis != "glossy")
+            throw UsageError("lights.direct_mis must be always or glossy, not " + mis);
+        m.direct_mis = mis == "always";
     }
     if (m.direct_samples < 1) throw UsageError("lights.direct_samples must be at least 1");
     if (m.max_depth < 0 || m.lights.vpl_count < 0 || m.lights.vpl_max_depth < 1 ||
@@ -170,7 +173,7 @@ nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectL
                         {"light_paths", set.light_paths},
                         {"direct", direct.empty() ? "points" : "sample"},
                         {"direct_samples", direct.empty() ? 0 : direct.samples()},
-                        {"direct_mis", !direct.empty() && direct.mis()}};
+                        {"direct_mis", direct.mis() ? "always" : "glossy"}};
     j.update(vpl_budget_json(set));
     return j;
 }
