@@ -22,11 +22,11 @@ wall milliseconds and the process's CPU seconds per frame, render and tone mappi
 With --baseline PATH (main's binary, which has no --bench-frames), the viewer's frame as
 `render` runs it (1 spp, igi.filter_direct, lights.direct_samples=1) alternates between PATH and
 --bin, its seconds.render compared in one run.
-With --ab PATH (session 12), only the full-resolution frames of `view --bench-frames`: --reps runs
-of --frames frames each, alternating PATH and --bin; the median CPU seconds per frame of each
-side and their ratio, from one run.
+With --ab PATH[,PATH...] (session 12), only the full-resolution frames of `view --bench-frames`:
+--reps runs of --frames frames each, alternating the PATHs and --bin (last); the median CPU
+seconds per frame of each and its ratio to the first PATH's, from one run.
 Usage: bench/igi_bench.py [--reps N] [--bin PATH] [--baseline PATH] [--frames N] [--only-frames]
-       bench/igi_bench.py --ab PATH [--reps N] [--frames N] [--bin PATH]
+       bench/igi_bench.py --ab PATH[,PATH...] [--reps N] [--frames N] [--bin PATH]
 """
 import json
 import os
@@ -95,27 +95,28 @@ def viewer_frames(frames):
                                  for c in cmd))
 
 
-def ab_full_frames(other, reps, frames):
-    cpu = {"A": [], "B": []}
-    ms = {"A": [], "B": []}
+def ab_full_frames(others, reps, frames):
+    binaries = others + [BIN]
+    cpu = {b: [] for b in binaries}
+    ms = {b: [] for b in binaries}
     for rep in range(reps):
-        for side, binary in (("A", other), ("B", BIN)):
+        for binary in binaries:
             # The default preview: binaries before session 12 listed no frame with --preview 1.
             cmd = [binary, "view", SCENE, "--resolution", "640x360", "--threads", "2",
                    "--bench-frames", str(frames)]
             r = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
-            cpu[side] += r["full_cpu_s"]
-            ms[side] += r["full_ms"]
+            cpu[binary] += r["full_cpu_s"]
+            ms[binary] += r["full_ms"]
     med = statistics.median
-    a, b = med(cpu["A"]), med(cpu["B"])
+    first = med(cpu[binaries[0]])
     print(f"full-resolution frames, {reps} runs of {frames} alternating (median over "
-          f"{len(cpu['A'])} frames each; CPU: user + system seconds of both threads)")
-    print("| binary | CPU s per frame | wall ms (this machine, now) | CPU / 2: ms on 2 free cores |")
-    print("|---|---|---|---|")
-    for side, path in (("A", other), ("B", BIN)):
-        c = med(cpu[side])
-        print(f"| {side}: {path} | {c:.3f} | {med(ms[side]):.0f} | {500 * c:.0f} |")
-    print(f"ratio B / A (CPU s) = {b / a:.3f}")
+          f"{len(cpu[BIN])} frames each; CPU: user + system seconds of both threads)")
+    print("| binary | CPU s per frame | wall ms (this machine, now) | CPU / 2: ms on 2 free cores "
+          "| ratio to the first (CPU s) |")
+    print("|---|---|---|---|---|")
+    for b in binaries:
+        c = med(cpu[b])
+        print(f"| {b} | {c:.3f} | {med(ms[b]):.0f} | {500 * c:.0f} | {c / first:.3f} |")
 
 
 def baseline_frames(baseline, reps, tmp):
@@ -143,7 +144,8 @@ def main():
         BIN = os.path.abspath(arg("--bin"))
     reps = int(arg("--reps", 3))
     if "--ab" in sys.argv:
-        ab_full_frames(os.path.abspath(arg("--ab")), reps, int(arg("--frames", 5)))
+        ab_full_frames([os.path.abspath(b) for b in arg("--ab").split(",")], reps,
+                       int(arg("--frames", 5)))
         return
     with tempfile.TemporaryDirectory() as tmp:
         if "--baseline" in sys.argv:
