@@ -205,10 +205,12 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
         o.set = {{"igi.vpls", std::to_string(s.vpls)},
                  {"igi.interleave", s.interleave},
                  {"igi.filter", std::to_string(s.filter)},
-                 // One light and one BSDF sample of the sampled direct light per pixel (not
-                 // four), blurred with the VPLs' light: the moving frames' budget goes to the
-                 // VPLs.
+                 // One light sample of the sampled direct light per pixel (not four), and a
+                 // BSDF sample with MIS only where the surface is glossy, blurred with the VPLs'
+                 // light: the moving frames' budget goes to the VPLs (bench/RESULTS.md,
+                 // "Issue 16, session 12").
                  {"lights.direct_samples", "1"},
+                 {"lights.direct_mis", "glossy"},
                  {"igi.filter_direct", "true"}};
     } else {
         o.integrator = s.integrator;

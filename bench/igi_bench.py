@@ -22,7 +22,11 @@ wall milliseconds and the process's CPU seconds per frame, render and tone mappi
 With --baseline PATH (main's binary, which has no --bench-frames), the viewer's frame as
 `render` runs it (1 spp, igi.filter_direct, lights.direct_samples=1) alternates between PATH and
 --bin, its seconds.render compared in one run.
+With --ab PATH[,PATH...] (session 12), only the full-resolution frames of `view --bench-frames`:
+--reps runs of --frames frames each, alternating the PATHs and --bin (last); the median CPU
+seconds per frame of each and its ratio to the first PATH's, from one run.
 Usage: bench/igi_bench.py [--reps N] [--bin PATH] [--baseline PATH] [--frames N] [--only-frames]
+       bench/igi_bench.py --ab PATH[,PATH...] [--reps N] [--frames N] [--bin PATH]
 """
 import json
 import os
@@ -47,7 +51,7 @@ CONFIGS = {
 REFERENCE = ["igi.vpls=1024", "igi.interleave=1x1", "igi.filter=0"]
 # The viewer's moving frame as `render` gives it (apps/view_renderer.cpp, options_for).
 VIEWER_FRAME = ["igi.vpls=256", "igi.interleave=4x4", "igi.filter=1", "lights.direct_samples=1",
-                "igi.filter_direct=true"]
+                "lights.direct_mis=glossy", "igi.filter_direct=true"]
 
 
 def command(sets, out, stats, binary=None):
@@ -91,11 +95,41 @@ def viewer_frames(frames):
                                  for c in cmd))
 
 
+def ab_full_frames(others, reps, frames):
+    binaries = others + [BIN]
+    cpu = {b: [] for b in binaries}
+    ms = {b: [] for b in binaries}
+    for rep in range(reps):
+        for binary in binaries:
+            # The default preview: binaries before session 12 listed no frame with --preview 1.
+            cmd = [binary, "view", SCENE, "--resolution", "640x360", "--threads", "2",
+                   "--bench-frames", str(frames)]
+            r = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+            cpu[binary] += r["full_cpu_s"]
+            ms[binary] += r["full_ms"]
+    med = statistics.median
+    first = med(cpu[binaries[0]])
+    print(f"full-resolution frames, {reps} runs of {frames} alternating (median over "
+          f"{len(cpu[BIN])} frames each; CPU: user + system seconds of both threads)")
+    print("| binary | CPU s per frame | wall ms (this machine, now) | CPU / 2: ms on 2 free cores "
+          "| ratio to the first (CPU s) |")
+    print("|---|---|---|---|---|")
+    for b in binaries:
+        c = med(cpu[b])
+        print(f"| {b} | {c:.3f} | {med(ms[b]):.0f} | {500 * c:.0f} | {c / first:.3f} |")
+
+
 def baseline_frames(baseline, reps, tmp):
     times = {"baseline": [], "this": []}
     for rep in range(reps):
         for name, binary in (("baseline", baseline), ("this", BIN)):
-            _, s = render(VIEWER_FRAME, tmp, "frame-" + name, binary)
+            try:
+                _, s = render(VIEWER_FRAME, tmp, "frame-" + name, binary)
+            except subprocess.CalledProcessError:
+                # Binaries before session 12 know no lights.direct_mis: their viewer's frame
+                # took a light and a BSDF sample with MIS.
+                sets = [x for x in VIEWER_FRAME if not x.startswith("lights.direct_mis")]
+                _, s = render(sets, tmp, "frame-" + name, binary)
             times[name].append(s["seconds"]["render"])
     a, b = statistics.median(times["baseline"]), statistics.median(times["this"])
     print(f"\nthe viewer's frame through `render` (median of {reps}, alternating): baseline "
@@ -109,6 +143,10 @@ def main():
     if "--bin" in sys.argv:
         BIN = os.path.abspath(arg("--bin"))
     reps = int(arg("--reps", 3))
+    if "--ab" in sys.argv:
+        ab_full_frames([os.path.abspath(b) for b in arg("--ab").split(",")], reps,
+                       int(arg("--frames", 5)))
+        return
     with tempfile.TemporaryDirectory() as tmp:
         if "--baseline" in sys.argv:
             baseline_frames(os.path.abspath(arg("--baseline")), reps, tmp)

@@ -1,8 +1,52 @@
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
 #include "core/math.h"
 
 using namespace ml;
+
+// next_float_up and next_float_down step the bits inline: the same floats as std::nextafter
+// towards +-infinity for zeros of both signs, the least and greatest floats, infinities,
+// subnormals and random bit patterns; NaN stays NaN.
+TEST(Math, NextFloatIsNextafter) {
+    std::vector<float> values = {0.f,
+                                 -0.f,
+                                 1.f,
+                                 -1.f,
+                                 std::numeric_limits<float>::denorm_min(),
+                                 -std::numeric_limits<float>::denorm_min(),
+                                 std::numeric_limits<float>::min(),
+                                 -std::numeric_limits<float>::min(),
+                                 std::numeric_limits<float>::max(),
+                                 -std::numeric_limits<float>::max(),
+                                 kInfinity,
+                                 -kInfinity};
+    uint32_t state = 12345;
+    for (int i = 0; i < 200000; ++i) {
+        state = state * 1664525u + 1013904223u;
+        float v = std::bit_cast<float>(state);
+        if (!std::isnan(v)) values.push_back(v);
+    }
+    for (float v : values) {
+        float up = next_float_up(v), down = next_float_down(v);
+        ASSERT_EQ(std::bit_cast<uint32_t>(up),
+                  std::bit_cast<uint32_t>(std::nextafter(v, kInfinity)))
+            << v;
+        ASSERT_EQ(std::bit_cast<uint32_t>(down),
+                  std::bit_cast<uint32_t>(std::nextafter(v, -kInfinity)))
+            << v;
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_TRUE(std::isnan(next_float_up(nan)));
+    EXPECT_TRUE(std::isnan(next_float_down(nan)));
+    EXPECT_TRUE(std::isnan(next_float_up(std::bit_cast<float>(0x7f800001u))));
+    EXPECT_TRUE(std::isnan(next_float_down(std::bit_cast<float>(0xff800001u))));
+}
 
 TEST(Transform, InverseRoundTrips) {
     Transform t = Transform::translate({1, 2, 3}) * Transform::rotate(30, {1, 1, 0}) *

@@ -23,8 +23,9 @@ WorldBegin
 )" + vpl_test::mixed_box();
 }
 
-// igi as the viewer's moving frames run it: 1 spp, the sliders' settings, one direct-light
-// sample per pixel blurred with the VPLs' light.
+// igi as the viewer's moving frames run it: 1 spp, the sliders' settings, one light sample of
+// the direct light per pixel (and a BSDF sample with MIS on glossy surfaces only) blurred with
+// the VPLs' light.
 RenderOutput igi_frame(const Scene& scene, const std::array<float, 9>& view, const ViewSettings& s,
                        int width, int height) {
     RenderOptions o;
@@ -34,11 +35,9 @@ RenderOutput igi_frame(const Scene& scene, const std::array<float, 9>& view, con
     o.width = width;
     o.height = height;
     o.look_at = view;
-    o.set = {{"igi.vpls", std::to_string(s.vpls)},
-             {"igi.interleave", s.interleave},
-             {"igi.filter", std::to_string(s.filter)},
-             {"lights.direct_samples", "1"},
-             {"igi.filter_direct", "true"}};
+    o.set = {{"igi.vpls", std::to_string(s.vpls)},     {"igi.interleave", s.interleave},
+             {"igi.filter", std::to_string(s.filter)}, {"lights.direct_samples", "1"},
+             {"lights.direct_mis", "glossy"},          {"igi.filter_direct", "true"}};
     return render_built_scene(scene, o);
 }
 

@@ -5,7 +5,8 @@
 
 namespace ml {
 
-SampledDirectLight::SampledDirectLight(const Scene& scene, int samples) : m_samples(samples) {
+SampledDirectLight::SampledDirectLight(const Scene& scene, int samples, bool mis)
+    : m_samples(samples), m_mis(mis) {
     std::vector<float> weights;
     for (const auto& l : scene.lights()) {
         float w = is_delta_light(l->type()) ? 0.f : std::max(0.f, l->power().luminance());
@@ -29,6 +30,10 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
     const SurfaceInteraction& si = g.si;
     const auto& lights = scene.lights();
     RGB L;
+    // Without MIS everywhere, a receiver with no glossy lobe takes its light samples alone:
+    // there f is bounded and the light's own density does well; a glossy one keeps the BSDF
+    // sample, without which a light sample of low density on a sharp lobe makes fireflies.
+    const bool mis = m_mis || (g.bsdf.flags() & kBxdfGlossy);
     for (int i = 0; i < m_samples; ++i) {
         float u_select = sampler.get_1d();
         Vec2 u_light = sampler.get_2d();
@@ -38,7 +43,8 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
         float chosen = 0;
         size_t index = m_choice.sample_discrete(u_select, &chosen);
         if (chosen > 0)
-            L += estimate_direct(scene, si, g.bsdf, *lights[index], u_light, true, chosen) / chosen;
+            L += estimate_direct(scene, si, g.bsdf, *lights[index], u_light, mis, chosen) / chosen;
+        if (!mis) continue;
         // BSDF sampling: its non-delta lobes only (a delta lobe is the camera path's to follow).
         auto bs = g.bsdf.sample(si.wo, uc, u_bsdf);
         if (!bs || bs->is_specular() || bs->pdf_solid_angle <= 0) continue;

@@ -5,7 +5,10 @@
 // next-event estimation with multiple importance sampling, as the path tracer does: a light
 // chosen in proportion to power and a point on it, and a BSDF sample whose ray may find an
 // emitter, weighted by the power heuristic. The result is unbiased; delta lights (point, spot,
-// distant) stay point lights, which are exact for them.
+// distant) stay point lights, which are exact for them. With lights.direct_mis=glossy (the
+// viewer's moving frames) receivers without a glossy lobe take only the light samples, with the
+// lights' complete densities (still unbiased, and without the BSDF sample's closest-hit ray);
+// glossy receivers keep both with MIS.
 #pragma once
 
 #include <vector>
@@ -20,11 +23,13 @@ class Light;
 class SampledDirectLight {
 public:
     SampledDirectLight() = default;
-    // The scene's non-delta lights; `samples` light and BSDF samples per gather point.
-    SampledDirectLight(const Scene& scene, int samples);
+    // The scene's non-delta lights; `samples` light and BSDF samples per gather point (with
+    // `mis` false: light samples only where the receiver has no glossy lobe).
+    SampledDirectLight(const Scene& scene, int samples, bool mis = true);
 
     bool empty() const { return m_count == 0; }
     int samples() const { return m_samples; }
+    bool mis() const { return m_mis; }
     // Direct radiance at g from the sampled lights, times g.beta. Draws 5 dimensions per sample
     // from the sampler (none when empty()), whatever happens.
     RGB estimate(const Scene& scene, const GatherPoint& g, Sampler& sampler) const;
@@ -35,6 +40,7 @@ private:
     Distribution1D m_choice;  // over the scene's lights; delta lights weigh 0
     size_t m_count = 0;       // lights that can be chosen
     int m_samples = 1;
+    bool m_mis = true;
 };
 
 }  // namespace ml

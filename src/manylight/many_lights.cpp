@@ -90,8 +90,13 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
     else if (direct != "points")
         throw UsageError("lights.direct must be points or sample, not " + direct);
     // Read only when sampling, so that a count given with `points` is reported as unused.
-    if (m.lights.sampled_direct)
+    if (m.lights.sampled_direct) {
         m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
+        std::string mis = s.get_string("lights.direct_mis", "always");
+        if (mis != "always" && mis != "glossy")
+            throw UsageError("lights.direct_mis must be always or glossy, not " + mis);
+        m.direct_mis = mis == "always";
+    }
     if (m.direct_samples < 1) throw UsageError("lights.direct_samples must be at least 1");
     if (m.max_depth < 0 || m.lights.vpl_count < 0 || m.lights.vpl_max_depth < 1 ||
         m.lights.area_count < 1 || m.lights.env_count < 1 || m.clamp < 0)
@@ -127,8 +132,9 @@ void ManyLightSettings::use_time_limit(const RenderContext& ctx, bool with_tree)
 void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
                        SampledDirectLight* direct) {
     *set = build_point_light_set(scene, settings.lights);
-    *direct = settings.lights.sampled_direct ? SampledDirectLight(scene, settings.direct_samples)
-                                             : SampledDirectLight();
+    *direct = settings.lights.sampled_direct
+                  ? SampledDirectLight(scene, settings.direct_samples, settings.direct_mis)
+                  : SampledDirectLight();
 }
 
 std::string capped_cut_warning(const std::string& integrator, const char* what, double capped,
@@ -166,7 +172,8 @@ nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectL
                         {"glossy", set.glossy},
                         {"light_paths", set.light_paths},
                         {"direct", direct.empty() ? "points" : "sample"},
-                        {"direct_samples", direct.empty() ? 0 : direct.samples()}};
+                        {"direct_samples", direct.empty() ? 0 : direct.samples()},
+                        {"direct_mis", direct.mis() ? "always" : "glossy"}};
     j.update(vpl_budget_json(set));
     return j;
 }

@@ -24,6 +24,9 @@ struct ManyLightSettings {
     // lights.direct=sample: area and infinite lights by next-event estimation
     // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
     int direct_samples = 4;
+    // lights.direct_mis=always|glossy: light and BSDF samples weighted by MIS at every gather
+    // point (true), or only at glossy ones, the others taking light samples alone (false).
+    bool direct_mis = true;
     // vpl.seed when given; else lights.seed follows the render's seed (use_render_seed).
     std::optional<uint64_t> explicit_seed;
     // The defaults of vpl.glossy, vpl.clamp and lights.direct: the measured best for `vpl`,
