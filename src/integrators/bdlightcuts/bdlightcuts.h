@@ -67,8 +67,8 @@ private:
     SplitWeightOptions m_weights;
     int m_samples = 16;
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
-    int m_eye_length = 3;  // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
-    bool m_rest_path = true;                      // bdlightcuts.rest: path (true) or drop
+    int m_eye_length = 3;     // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
+    bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
     std::unique_ptr<LightSampler> m_rest_lights;  // the remainder's next-event estimation
     float m_error = 0.1f;
     int m_max_cut = 300;
