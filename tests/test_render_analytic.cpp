@@ -119,8 +119,8 @@ TEST(RenderPointOverPlane, Whitted) { expect_plane("whitted"); }
 // strategy's must both use it or their weights no longer sum to one. A rough metal floor
 // reflects a dim light while a bright one, 50 times the power, lights it from the side: with
 // power sampling the dim light is rarely picked, which is where a weight without the pmf
-// counts its reflection almost twice. Power, uniform and tree selection must agree.
-TEST(RenderLightSelection, PowerUniformAndTreeAgreeOnAGlossyFloor) {
+// counts its reflection almost twice. Power, uniform, tree and all-lights selection must agree.
+TEST(RenderLightSelection, PowerUniformTreeAndAllAgreeOnAGlossyFloor) {
     const std::string scene = R"(
 LookAt 0 1 -3  0 0 0  0 1 0
 Camera "perspective" "float fov" [ 40 ]
@@ -167,6 +167,15 @@ AttributeEnd
         std::printf("tree - power, channel %d: %+.5f (mean %.4f, standard error %.5f)\n", c,
                     dt.mean, dt.reference_mean, dt.stderr_of_mean);
         EXPECT_NEAR(dt.mean, 0.0, 4 * dt.stderr_of_mean) << "channel " << c;
+    }
+    // Every light at each vertex (pmf 1): the BSDF strategy's weight must use pmf 1 too, or the
+    // dim light's reflection counts almost twice again. Per channel.
+    Image all = render("all", 4);
+    for (int c = 0; c < 3; ++c) {
+        test::MeanDifference da = test::mean_difference(all, power, c);
+        std::printf("all - power, channel %d: %+.5f (mean %.4f, standard error %.5f)\n", c, da.mean,
+                    da.reference_mean, da.stderr_of_mean);
+        EXPECT_NEAR(da.mean, 0.0, 4 * da.stderr_of_mean) << "channel " << c;
     }
 }
 

@@ -1,8 +1,9 @@
 // The unidirectional path tracer's vertex loop: at each vertex, next-event estimation with one
-// light chosen by a LightSampler, then a BSDF sample whose ray finds emission weighted by MIS
-// against those light samples (power heuristic), and Russian roulette. `path` traces whole paths
-// with it; an estimator that covers the short paths itself continues its own eye path with it
-// (bdlightcuts' remainder), the one copy of next-event estimation and MIS along a path.
+// light chosen by a LightSampler (or every light, PathTraceOptions::all_lights), then a BSDF sample
+// whose ray finds emission weighted by MIS against those light samples (power heuristic), and
+// Russian roulette. `path` traces whole paths with it; an estimator that covers the short paths
+// itself continues its own eye path with it (bdlightcuts' remainder), the one copy of next-event
+// estimation and MIS along a path.
 #pragma once
 
 #include "core/scratch.h"
@@ -16,6 +17,10 @@ namespace ml {
 struct PathTraceOptions {
     int max_depth = 5;  // scattering vertices of the longest path counted
     int rr_depth = 1;   // Russian roulette after the BSDF samples of vertices from this depth on
+    // Next-event estimation samples every light of the scene once at each vertex (pmf 1 each,
+    // pbrt-v3's "all" strategy) instead of one light chosen by the LightSampler: no variance of
+    // the light choice, at one shadow ray per light (`path.lightsampler=all`).
+    bool all_lights = false;
 };
 
 // A weight of the continued paths that depends on the direction in which they leave their first

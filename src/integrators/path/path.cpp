@@ -14,12 +14,14 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
     settings.get_bool("regularize", false);  // accepted for pbrt-v4 scenes; no effect
     if (m_max_depth < 0) throw UsageError("path: maxdepth must be >= 0");
     if (m_light_sampler_name != "tree" && m_light_sampler_name != "power" &&
-        m_light_sampler_name != "uniform")
-        throw UsageError("path: lightsampler must be tree, power or uniform");
+        m_light_sampler_name != "uniform" && m_light_sampler_name != "all")
+        throw UsageError("path: lightsampler must be tree, power, uniform or all");
 }
 
 void PathIntegrator::prepare(const Scene& scene) {
-    m_light_sampler = std::make_unique<LightSampler>(m_light_sampler_name, scene.lights());
+    // "all": every light at each vertex (PathTraceOptions::all_lights); the sampler is unused.
+    m_light_sampler = std::make_unique<LightSampler>(
+        m_light_sampler_name == "all" ? "power" : m_light_sampler_name, scene.lights());
 }
 
 RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
@@ -29,8 +31,8 @@ RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampl
     RGB L = emission_along(scene, camera_ray, hit ? &si : nullptr, true, 0.f, {},
                            m_light_sampler.get());
     if (!hit) return L;
-    return L + continue_path(scene, si, 0, RGB(1.f), sampler, scratch, *m_light_sampler,
-                             {m_max_depth, m_rr_depth});
+    PathTraceOptions options{m_max_depth, m_rr_depth, m_light_sampler_name == "all"};
+    return L + continue_path(scene, si, 0, RGB(1.f), sampler, scratch, *m_light_sampler, options);
 }
 
 }  // namespace ml
