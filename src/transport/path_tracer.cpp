@@ -28,9 +28,13 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
         Vec2 u_light = sampler.get_2d();
         if (bsdf.has_nonspecular()) {
             if (auto sl = light_sampler.sample(light_context(si), u_select)) {
-                Vec3 wi;
-                RGB Ld = estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, &wi);
-                if (weight && !Ld.is_black()) Ld *= weight->weight(bsdf, si.wo, wi, false);
+                std::function<float(const LightLiSample&)> ls_weight;
+                if (weight)
+                    ls_weight = [&](const LightLiSample& ls) {
+                        return weight->weight(bsdf, si.wo, ls.wi, false);
+                    };
+                RGB Ld =
+                    estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, ls_weight);
                 L += path_weight * beta * Ld / sl->pmf;
             }
         }

@@ -69,7 +69,12 @@ private:
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
     int m_eye_length = 3;     // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
-    std::unique_ptr<LightSampler> m_rest_lights;  // the remainder's next-event estimation
+    int m_rest_paths = 1;     // bdlightcuts.rest_paths: remainder paths per continued eye path
+    // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
+    // light samples weighed by MIS (true), or by BSDF samples alone.
+    bool m_emission_mis = true;
+    // The remainder's and the last split's next-event estimation.
+    std::unique_ptr<LightSampler> m_nee_lights;
     float m_error = 0.1f;
     int m_max_cut = 300;
     float m_floor = 1.0f;
