@@ -69,10 +69,10 @@ private:
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
     int m_eye_length = 3;     // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
-    int m_rest_paths = 1;     // bdlightcuts.rest_paths: remainder paths per continued eye path
+    int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
     // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
     // light samples weighed by MIS (true), or by BSDF samples alone.
-    bool m_emission_mis = true;
+    bool m_emission_mis = false;
     // The remainder's and the last split's next-event estimation.
     std::unique_ptr<LightSampler> m_nee_lights;
     float m_error = 0.1f;
