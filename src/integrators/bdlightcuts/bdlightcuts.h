@@ -11,7 +11,10 @@
 // without clamping; clamping, diffuse VPLs and the spread exclusion move energy to longer eye
 // paths or drop it. A VSP whose pairs all weigh 0 (vsp_weight_bound) stays out of the VSP tree.
 // What no split up to the eye-path length takes, the remainder r (remainder_weight), is path
-// traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`), or dropped.
+// traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`, averaged over
+// `bdlightcuts.rest_paths` paths), or dropped. The last split can also take light samples at
+// the eye vertices, with its own weight, weighed against the BSDF samples by MIS
+// (`bdlightcuts.emission=mis`).
 #pragma once
 
 #include <atomic>
