@@ -31,17 +31,25 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 }
 
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
-                    const Light& light, const Vec2& u_light, bool mis, float light_pmf, Vec3* wi) {
+                    const Light& light, const Vec2& u_light, bool mis, float light_pmf,
+                    const std::function<float(const LightLiSample&)>& weight) {
     LightSampleContext ctx = light_context(si);
     ctx.allow_incomplete_pdf = mis;
     auto ls = light.sample_li(ctx, u_light);
     if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return RGB();
     RGB f = bsdf.eval(si.wo, ls->wi) * abs_dot(ls->wi, si.ns);
-    if (f.is_black() || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
-    if (wi) *wi = ls->wi;
-    if (!mis || is_delta_light(light.type())) return f * ls->L / ls->pdf_solid_angle;
-    float w = power_heuristic(light_pmf * ls->pdf_solid_angle, bsdf.pdf_solid_angle(si.wo, ls->wi));
-    return f * ls->L * (w / ls->pdf_solid_angle);
+    if (f.is_black()) return RGB();
+    const float sample_weight = weight ? weight(*ls) : 1.f;
+    if (sample_weight == 0.f || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
+    RGB Ld;
+    if (!mis || is_delta_light(light.type())) {
+        Ld = f * ls->L / ls->pdf_solid_angle;
+    } else {
+        float w =
+            power_heuristic(light_pmf * ls->pdf_solid_angle, bsdf.pdf_solid_angle(si.wo, ls->wi));
+        Ld = f * ls->L * (w / ls->pdf_solid_angle);
+    }
+    return weight ? Ld * sample_weight : Ld;
 }
 
 }  // namespace ml

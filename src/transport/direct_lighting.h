@@ -2,6 +2,8 @@
 // estimation from a surface, and emission found by a ray, each weighted by MIS against the other.
 #pragma once
 
+#include <functional>
+
 #include "lights/light.h"
 #include "materials/bsdf.h"
 #include "sampling/sampler.h"
@@ -25,9 +27,11 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 // sampling unless `mis` is false (delta lights take no weight). `light_pmf` is the probability
 // that the caller chose this light: the light strategy's density is pmf * pdf, as in the weight
 // emission_along gives the BSDF strategy. The result is not divided by it (the caller does).
-// `wi`, if given, receives the sample's direction towards the light where the result is not 0.
+// `weight`, if given, multiplies the result by a weight of the light sample (its direction, the
+// point on the light and its normal), taken before the shadow ray: where it is 0, no ray is
+// traced (bdlightcuts' split weights, which are 0 for most directions at some points).
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis = true, float light_pmf = 1.f,
-                    Vec3* wi = nullptr);
+                    const std::function<float(const LightLiSample&)>& weight = {});
 
 }  // namespace ml

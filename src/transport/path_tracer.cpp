@@ -26,20 +26,21 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
         // Next-event estimation: one light chosen for this point, one sample on it.
         float u_select = sampler.get_1d();
         Vec2 u_light = sampler.get_2d();
-        if (bsdf.has_nonspecular() && options.all_lights) {
-            const auto& lights = scene.lights();
-            for (size_t i = 0; i < lights.size(); ++i) {
-                Vec3 wi;
-                RGB Ld = estimate_direct(scene, si, bsdf, *lights[i],
-                                         i == 0 ? u_light : sampler.get_2d(), true, 1.f, &wi);
-                if (weight && !Ld.is_black()) Ld *= weight->weight(bsdf, si.wo, wi, false);
-                L += path_weight * beta * Ld;
-            }
-        } else if (bsdf.has_nonspecular()) {
-            if (auto sl = light_sampler.sample(light_context(si), u_select)) {
-                Vec3 wi;
-                RGB Ld = estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, &wi);
-                if (weight && !Ld.is_black()) Ld *= weight->weight(bsdf, si.wo, wi, false);
+        if (bsdf.has_nonspecular()) {
+            std::function<float(const LightLiSample&)> ls_weight;
+            if (weight)
+                ls_weight = [&](const LightLiSample& ls) {
+                    return weight->weight(bsdf, si.wo, ls.wi, false);
+                };
+            if (options.all_lights) {
+                const auto& lights = scene.lights();
+                for (size_t i = 0; i < lights.size(); ++i)
+                    L += path_weight * beta *
+                         estimate_direct(scene, si, bsdf, *lights[i],
+                                         i == 0 ? u_light : sampler.get_2d(), true, 1.f, ls_weight);
+            } else if (auto sl = light_sampler.sample(light_context(si), u_select)) {
+                RGB Ld =
+                    estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, ls_weight);
                 L += path_weight * beta * Ld / sl->pmf;
             }
         }

@@ -177,6 +177,12 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     if (rest != "path" && rest != "drop")
         throw UsageError("bdlightcuts.rest must be path or drop, not '" + rest + "'");
     m_rest_path = rest == "path";
+    m_rest_paths = settings.get_int("rest_paths", m_rest_paths);
+    if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
+    const std::string emission = settings.get_string("emission", m_emission_mis ? "mis" : "hit");
+    if (emission != "mis" && emission != "hit")
+        throw UsageError("bdlightcuts.emission must be mis or hit, not '" + emission + "'");
+    m_emission_mis = emission == "mis";
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_floor = settings.get_float("floor", m_floor);
@@ -206,11 +212,17 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
     Vec3 pending_p;
     int vsps = 0;
     SurfaceInteraction si;
+    // The previous vertex's light sample, which the emission a BSDF sample finds is weighed
+    // against (MIS; none from the camera or after a delta lobe's sample).
+    bool prev_nee = false;
+    float prev_pdf = 0;
+    LightSampleContext prev_ctx;
     for (int depth = 0;; ++depth) {  // depth: scattering vertices before this hit
         bool hit = scene.intersect(ray, &si);
         float t_prev = 1.f;
         if (pending && hit) t_prev = 1.f / std::max(1e-12f, length_squared(si.p - pending_p));
-        RGB le = emission_along(scene, ray, hit ? &si : nullptr, true, 0.f, {}, nullptr);
+        RGB le = emission_along(scene, ray, hit ? &si : nullptr, !prev_nee, prev_pdf, prev_ctx,
+                                m_nee_lights.get());
         if (!le.is_black()) {
             // The last split: what the earlier ones left, x_{j+1} being the emitter.
             float pre = prefix;
@@ -228,8 +240,14 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             if (m_rest_path &&
                 !remainder_vanishes(m_weights, prefix, pending_mt, kInfinity, pending_mu)) {
                 RemainderWeight r(m_weights, prefix, pending_mt, pending_mu);
-                L += continue_path(scene, si, depth, beta, sampler, ts.scratch, *m_rest_lights,
-                                   {m_settings.max_depth, 1}, &r);
+                // `rest_paths` of them, averaged (each with the whole throughput, which their
+                // Russian roulette looks at).
+                for (int i = 0; i < m_rest_paths; ++i) {
+                    RGB rp = continue_path(scene, si, depth, beta, sampler, ts.scratch,
+                                           *m_nee_lights, {m_settings.max_depth, 1}, &r) /
+                             float(m_rest_paths);
+                    L += rp;
+                }
                 *rested = true;
             }
             break;
@@ -251,10 +269,45 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             }
             ++vsps;
         }
+        // The last split's light sample (`bdlightcuts.emission=mis`): the emitter met from x_j
+        // along a light sample instead of the BSDF's, with the same weight as there.
+        if (m_emission_mis && bsdf.has_nonspecular()) {
+            float u_select = sampler.get_1d();
+            Vec2 u_light = sampler.get_2d();
+            if (auto sl = m_nee_lights->sample(light_context(si), u_select);
+                sl && !is_delta_light(sl->light->type())) {
+                // The weight as where the BSDF's sample meets the emitter (x_{j+1} = the light
+                // sample's point): w_{j-1} with D_j towards it, then what w_j leaves.
+                auto last_split = [&](const LightLiSample& ls) {
+                    float f = bsdf.eval(si.wo, ls.wi).max_component();
+                    float pre = prefix;
+                    if (pending) {
+                        float d = f * abs_dot(si.wo, n);
+                        pre += split_weight(m_weights, pre, pending_m * t_prev * d, d, pending_mu);
+                    }
+                    float m = f * abs_dot(ls.wi, si.ns), dk = 0, t = 1;
+                    if (sl->light->type() == LightType::Area) {
+                        dk = abs_dot(ls.n_light, ls.wi) / kPi;
+                        t = 1.f / std::max(1e-12f, length_squared(ls.p_light - si.p));
+                    }
+                    pre +=
+                        split_weight(m_weights, pre, m * t * dk, dk, spread_mu(m_weights, theta));
+                    return emission_weight(m_weights, pre,
+                                           spread_mu(m_weights, theta + lobe_spread(m)));
+                };
+                L += beta *
+                     estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf,
+                                     last_split) /
+                     sl->pmf;
+            }
+        }
         float uc = sampler.get_1d();
         Vec2 u = sampler.get_2d();
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
+        prev_nee = m_emission_mis && !bs->is_specular();
+        prev_pdf = bs->pdf_solid_angle;
+        prev_ctx = light_context(si);
         if (bs->is_specular()) {
             pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
         } else {
@@ -282,7 +335,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
     build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
-    if (m_rest_path) m_rest_lights = std::make_unique<LightSampler>("tree", ctx.scene.lights());
+    if (m_rest_path || m_emission_mis)
+        m_nee_lights = std::make_unique<LightSampler>("tree", ctx.scene.lights());
     m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
     m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0, m_rests = 0;
     // Each light node's flux, children before parents (whatever order the tree stores them).
@@ -352,6 +406,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"pass_samples", m_pass_samples},
                               {"eye_length", m_eye_length},
                               {"rest", m_rest_path ? "path" : "drop"},
+                              {"rest_paths", m_rest_paths},
+                              {"emission", m_emission_mis ? "mis" : "hit"},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
                               {"time_cap", cut_cap_json(cap_plan)},

@@ -11,7 +11,10 @@
 // without clamping; clamping, diffuse VPLs and the spread exclusion move energy to longer eye
 // paths or drop it. A VSP whose pairs all weigh 0 (vsp_weight_bound) stays out of the VSP tree.
 // What no split up to the eye-path length takes, the remainder r (remainder_weight), is path
-// traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`), or dropped.
+// traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`, averaged over
+// `bdlightcuts.rest_paths` paths), or dropped. The last split can also take light samples at
+// the eye vertices, with its own weight, weighed against the BSDF samples by MIS
+// (`bdlightcuts.emission=mis`).
 #pragma once
 
 #include <atomic>
@@ -69,7 +72,12 @@ private:
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
     int m_eye_length = 3;     // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
-    std::unique_ptr<LightSampler> m_rest_lights;  // the remainder's next-event estimation
+    int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
+    // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
+    // light samples weighed by MIS (true), or by BSDF samples alone.
+    bool m_emission_mis = false;
+    // The remainder's and the last split's next-event estimation.
+    std::unique_ptr<LightSampler> m_nee_lights;
     float m_error = 0.1f;
     int m_max_cut = 300;
     float m_floor = 1.0f;

@@ -1,0 +1,104 @@
+// bdlightcuts' last split (the emitter met by the eye path) by light samples as well as BSDF
+// samples, weighed by MIS (`bdlightcuts.emission=mis`), and the remainder's paths per continued
+// eye path (`bdlightcuts.rest_paths`): both estimate the same split-weighted sum as before, so
+// they agree with `path`; the light samples lower the variance where clamping leaves most of a
+// close light to the last split.
+#include <gtest/gtest.h>
+
+#include "bidir_test_helpers.h"
+#include "core/error.h"
+#include "render_helpers.h"
+
+using namespace ml;
+using Set = std::map<std::string, std::string>;
+
+namespace {
+
+// A small bright light 0.35 above a diffuse floor and a rough conductor beside it: at that range
+// the clamping weight (C_clamp 0.03) leaves most of the light's direct contribution to the last
+// split, where BSDF samples alone find the small light rarely.
+const char* kCloseLight = R"(
+LookAt 0 1.6 1.6  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 40 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+Sampler "independent"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 40 36 30 ]
+  Shape "trianglemesh" "point3 P" [ -0.1 0.35 -0.1  0.1 0.35 -0.1  0.1 0.35 0.1  -0.1 0.35 0.1 ]
+    "integer indices" [ 0 1 2 0 2 3 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.7 0.6 0.5 ]
+Shape "trianglemesh" "point3 P" [ -2 0 -2  0 0 -2  0 0 2  -2 0 2 ] "integer indices" [ 0 2 1 0 3 2 ]
+Material "conductor" "float roughness" [ 0.2 ] "rgb reflectance" [ 0.8 0.8 0.8 ]
+Shape "trianglemesh" "point3 P" [ 0 0 -2  2 0 -2  2 0 2  0 0 2 ] "integer indices" [ 0 2 1 0 3 2 ]
+Material "diffuse" "rgb reflectance" [ 0.4 0.5 0.6 ]
+Shape "trianglemesh" "point3 P" [ -2 0 -1  2 0 -1  2 2 -1  -2 2 -1 ] "integer indices" [ 0 1 2 0 2 3 ]
+)";
+
+Set bdlc(const Set& extra) {
+    Set s = {{"vpl.count", "1500"}, {"bdlightcuts.samples", "8"}, {"bdlightcuts.error", "0.02"}};
+    for (const auto& [k, v] : extra) s[k] = v;
+    return s;
+}
+
+// The mean over pixels and channels of the per-pixel variance across the runs.
+double pixel_variance(const test::TwoRenders& r) {
+    std::vector<const Image*> all = r.all();
+    const size_t n = all.size(), pixels = all[0]->pixels.size();
+    double sum = 0;
+    for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) {
+            double m = 0, v = 0;
+            for (const Image* img : all) m += img->pixels[i][c];
+            m /= double(n);
+            for (const Image* img : all) v += (img->pixels[i][c] - m) * (img->pixels[i][c] - m);
+            sum += v / double(n - 1);
+        }
+    return sum / double(pixels * 3);
+}
+
+void expect_usage_error(const Set& set, const std::string& message) {
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 1;
+    opt.width = opt.height = 8;
+    opt.set = bdlc(set);
+    try {
+        test::render_text(kCloseLight, opt);
+        ADD_FAILURE() << "accepted: " << set.begin()->first << "=" << set.begin()->second;
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+
+TEST(BdLightcutsEmission, LightSamplesAgreeWithPathAndLowerTheVariance) {
+    auto ref = test::render_twice(kCloseLight, "path", 512, 4, 16, {}, 4);
+    auto mis = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16,
+                                  bdlc({{"bdlightcuts.emission", "mis"}}), 4);
+    auto hit = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16,
+                                  bdlc({{"bdlightcuts.emission", "hit"}}), 4);
+    test::expect_agreement(mis, ref, 8, "emission=mis");
+    test::expect_agreement(hit, ref, 8, "emission=hit");
+    // Where the last split carries the close light, light samples find it every time.
+    EXPECT_LT(pixel_variance(mis), 0.7 * pixel_variance(hit))
+        << "mis " << pixel_variance(mis) << ", hit " << pixel_variance(hit);
+}
+
+TEST(BdLightcutsEmission, SeveralRemainderPathsAgreeWithPath) {
+    // At eye-path length 1 the remainder takes what the clamped first split leaves of every
+    // longer path; three paths per continued eye path average to the same sum.
+    const Set set = {{"bdlightcuts.eye_length", "1"}, {"bdlightcuts.rest_paths", "3"}};
+    auto ref = test::render_twice(kCloseLight, "path", 512, 4, 16, {}, 4);
+    auto three = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16, bdlc(set), 4);
+    test::expect_agreement(three, ref, 8, "rest_paths=3");
+}
+
+TEST(BdLightcutsEmission, SettingsTakeOnlyWhatTheyExpect) {
+    expect_usage_error({{"bdlightcuts.emission", "nee"}},
+                       "bdlightcuts.emission must be mis or hit");
+    expect_usage_error({{"bdlightcuts.rest_paths", "0"}},
+                       "bdlightcuts.rest_paths must be at least 1");
+}
