@@ -6,22 +6,24 @@ Scenes: veach-ajar and veach-bidir (light arriving by indirect paths) at 64x36, 
 between runs); its own relMSE is estimated from a second, independent BDPT render of 256 spp
 (seed 99): relMSE(256 vs ref) * 256 / ref_spp.
 Each sampler at --counts VPLs through `vpl` (4 spp) and `mdlightcuts` (4 spp, one pass of 32),
-seeds 1 and 2, relMSE averaged; with it, from `vpl`'s --stats, the VPL point lights (distinct
+--seeds (1 and 2), relMSE averaged; with it, from `vpl`'s --stats, the VPL point lights (distinct
 VPLs: bidirectional merges a candidate drawn k times into one) and the share of them that light
 some gather point. Then equal time: `vpl` with 1024 VPLs under --time-limit EQUAL_TIME seconds.
 Every cell with the defaults (vpl.clamp=0.2) or, with --clamps=default,0, also with
 vpl.clamp=0 (no clamping bias).
 
 With --budget, a second equal-time mode: each integrator under --time-limit with vpl.count left
-out, so that the VPL build fits its share of the time (manylight/vpl_budget.h) and a sampler that
+out (mdlightcuts unless --budget-integrators says; `vpl`'s pass grows with the count), so that the
+VPL build fits its share of the time (manylight/vpl_budget.h) and a sampler that
 needs fewer VPLs for an image gets more pixel passes; the cell then shows the VPL count used.
 
 Usage: bench/vpl_samplers.py [--scenes=veach-ajar,...] [--counts=256,1024,4096]
   [--samplers=standard,power,bidirectional,metropolis,metropolis:4] [--integrators=vpl,mdlightcuts]
   [--ref-spp=4096] [--clamps=default,0] [--equal-only] [--no-equal] [--budget] [--time=4]
+  [--budget-integrators=mdlightcuts]
   [--seeds=1,2] [--out=DIR]
-(prints markdown tables; metropolis:K sets vpl.metropolis.tries=K, and metropolis:K/cC/lP also
-vpl.metropolis.chains=C and vpl.metropolis.large_step=P; --out: where the renders go, TMP's
+(prints markdown tables; metropolis:K sets vpl.metropolis.tries=K, and metropolis:K/cC/lP/kB also
+vpl.metropolis.chains=C, vpl.metropolis.large_step=P and vpl.metropolis.cap=B; --out: where the renders go, TMP's
 reference stays where it is)
 """
 import json
@@ -53,17 +55,18 @@ CLAMPS = [None if c == "default" else c for c in arg("clamps", "default").split(
 EQUAL_ONLY = "--equal-only" in sys.argv
 NO_EQUAL = "--no-equal" in sys.argv
 BUDGET = "--budget" in sys.argv
+BUDGET_INTEGRATORS = arg("budget-integrators", "mdlightcuts").split(",")
 EQUAL_TIME = float(arg("time", "4"))
 OUT = arg("out", TMP)
 
 
 def sampler_args(smp):
-    """'metropolis:4' is metropolis with vpl.metropolis.tries=4; '/c16' adds 16 chains and '/l0.5'
-    a large-step probability of 0.5."""
+    """'metropolis:4' is metropolis with vpl.metropolis.tries=4; '/c16' adds 16 chains, '/l0.5'
+    a large-step probability of 0.5 and '/k0' vpl.metropolis.cap=0."""
     name, _, rest = smp.partition(":")
     args = ["--set", f"vpl.sampler={name}"]
     parts = rest.split("/") if rest else []
-    keys = {"c": "chains", "l": "large_step"}
+    keys = {"c": "chains", "l": "large_step", "k": "cap"}
     for i, p in enumerate(parts):
         if i == 0 and p:
             args += ["--set", f"vpl.metropolis.tries={p}"]
@@ -168,7 +171,7 @@ def main():
                              False))
                 print(rows[-1], flush=True)
             if BUDGET:
-                for integ in INTEGRATORS:
+                for integ in BUDGET_INTEGRATORS:
                     extra = ["--spp", "4096", "--time-limit", str(EQUAL_TIME)]
                     cells = [cell(scene, ref, integ, smp, clamp, extra, "budget")
                              for smp in SAMPLERS]
