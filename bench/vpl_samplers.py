@@ -6,16 +6,25 @@ Scenes: veach-ajar and veach-bidir (light arriving by indirect paths) at 64x36, 
 between runs); its own relMSE is estimated from a second, independent BDPT render of 256 spp
 (seed 99): relMSE(256 vs ref) * 256 / ref_spp.
 Each sampler at --counts VPLs through `vpl` (4 spp) and `mdlightcuts` (4 spp, one pass of 32),
-seeds 1 and 2, relMSE averaged; with it, from `vpl`'s --stats, the VPL point lights (distinct
+--seeds (1 and 2), relMSE averaged; with it, from `vpl`'s --stats, the VPL point lights (distinct
 VPLs: bidirectional merges a candidate drawn k times into one) and the share of them that light
 some gather point. Then equal time: `vpl` with 1024 VPLs under --time-limit EQUAL_TIME seconds.
 Every cell with the defaults (vpl.clamp=0.2) or, with --clamps=default,0, also with
 vpl.clamp=0 (no clamping bias).
 
+With --budget, a second equal-time mode: each integrator under --time-limit with vpl.count left
+out (mdlightcuts unless --budget-integrators says; `vpl`'s pass grows with the count), so that the
+VPL build fits its share of the time (manylight/vpl_budget.h) and a sampler that
+needs fewer VPLs for an image gets more pixel passes; the cell then shows the VPL count used.
+
 Usage: bench/vpl_samplers.py [--scenes=veach-ajar,...] [--counts=256,1024,4096]
   [--samplers=standard,power,bidirectional,metropolis,metropolis:4] [--integrators=vpl,mdlightcuts]
-  [--ref-spp=4096] [--clamps=default,0] [--equal-only] [--seeds=1,2]
-(prints markdown tables; metropolis:K sets vpl.metropolis.tries=K)
+  [--ref-spp=4096] [--clamps=default,0] [--equal-only] [--no-equal] [--budget] [--time=4]
+  [--budget-integrators=mdlightcuts]
+  [--seeds=1,2] [--out=DIR]
+(prints markdown tables; metropolis:K sets vpl.metropolis.tries=K, and metropolis:K/cC/lP/kB also
+vpl.metropolis.chains=C, vpl.metropolis.large_step=P and vpl.metropolis.cap=B; --out: where the renders go, TMP's
+reference stays where it is)
 """
 import json
 import os
@@ -26,7 +35,6 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BIN = os.environ.get("MANYLIGHT_BIN", os.path.join(ROOT, "build", "manylight"))
 SCENES = os.path.join(ROOT, "..", "shared", "scenes")
 TMP = "/tmp/vpl_samplers_bench"
-EQUAL_TIME = 4.0
 RES = {"veach-ajar": "64x36", "veach-bidir": "64x36", "cornell-box": "48x48"}
 
 
@@ -45,13 +53,26 @@ SEEDS = [int(s) for s in arg("seeds", "1,2").split(",")]
 REF_SPP = int(arg("ref-spp", "4096"))
 CLAMPS = [None if c == "default" else c for c in arg("clamps", "default").split(",")]
 EQUAL_ONLY = "--equal-only" in sys.argv
+NO_EQUAL = "--no-equal" in sys.argv
+BUDGET = "--budget" in sys.argv
+BUDGET_INTEGRATORS = arg("budget-integrators", "mdlightcuts").split(",")
+EQUAL_TIME = float(arg("time", "4"))
+OUT = arg("out", TMP)
 
 
 def sampler_args(smp):
-    """'metropolis:4' is metropolis with vpl.metropolis.tries=4."""
-    name, _, tries = smp.partition(":")
+    """'metropolis:4' is metropolis with vpl.metropolis.tries=4; '/c16' adds 16 chains, '/l0.5'
+    a large-step probability of 0.5 and '/k0' vpl.metropolis.cap=0."""
+    name, _, rest = smp.partition(":")
     args = ["--set", f"vpl.sampler={name}"]
-    return args + (["--set", f"vpl.metropolis.tries={tries}"] if tries else [])
+    parts = rest.split("/") if rest else []
+    keys = {"c": "chains", "l": "large_step", "k": "cap"}
+    for i, p in enumerate(parts):
+        if i == 0 and p:
+            args += ["--set", f"vpl.metropolis.tries={p}"]
+        elif i > 0:
+            args += ["--set", f"vpl.metropolis.{keys[p[0]]}={p[1:]}"]
+    return args
 
 
 def render(scene, out, args):
@@ -85,7 +106,8 @@ def cell(scene, ref, integ, smp, clamp, extra, tag):
     errs, secs, lights, lit = [], [], [], []
     for seed in SEEDS:
         c = "" if clamp is None else f"-c{clamp}"
-        out = os.path.join(TMP, f"{scene}-{integ}-{smp}{c}-{tag}-{seed}.exr")
+        name = smp.replace("/", "_")
+        out = os.path.join(OUT, f"{scene}-{integ}-{name}{c}-{tag}-{seed}.exr")
         args = ["--integrator", integ, "--seed", str(seed)] + extra + sampler_args(smp)
         if clamp is not None:
             args += ["--set", f"vpl.clamp={clamp}"]
@@ -93,23 +115,41 @@ def cell(scene, ref, integ, smp, clamp, extra, tag):
         errs.append(relmse(out, ref))
         secs.append(st["seconds"]["render"])
         v = st.get("vpl")
-        if v:
+        if tag == "budget":
+            lights.append(used_vpls(st))
+            lit.append(float("nan"))
+        elif v:
             lights.append(v["vpl_lights"])
             lit.append(v["lighting"] / max(1, v["vpl_lights"]))
     mean = lambda x: sum(x) / len(x) if x else float("nan")
     return mean(errs), mean(secs), mean(lights), mean(lit)
 
 
+def used_vpls(st):
+    """The VPL count the time limit left (vpl_count_used, wherever --stats puts it)."""
+    if isinstance(st, dict):
+        if "vpl_count_used" in st:
+            return st["vpl_count_used"]
+        for v in st.values():
+            n = used_vpls(v)
+            if n == n:
+                return n
+    return float("nan")
+
+
 def fmt_cell(c, show_vpls):
     e, s, n, f = c
     text = f"{e:.3g} ({s:.1f} s"
-    if show_vpls and n == n:
+    if show_vpls and n == n and f != f:
+        text += f"; {n:.0f} VPLs used"
+    elif show_vpls and n == n:
         text += f"; {n:.0f} VPLs, {100 * f:.0f}% light"
     return text + ")"
 
 
 def main():
     os.makedirs(TMP, exist_ok=True)
+    os.makedirs(OUT, exist_ok=True)
     rows = []
     for scene in SCENE_LIST:
         ref, own = reference(scene)
@@ -123,11 +163,21 @@ def main():
                                  for smp in SAMPLERS]
                         rows.append((scene, integ + label, str(count), cells, integ == "vpl"))
                         print(rows[-1], flush=True)
-            extra = ["--spp", "1024", "--time-limit", str(EQUAL_TIME), "--set", "vpl.count=1024"]
-            cells = [cell(scene, ref, "vpl", smp, clamp, extra, "eqt") for smp in SAMPLERS]
-            rows.append((scene, "vpl, equal time" + label, f"1024, {EQUAL_TIME:g} s", cells,
-                         False))
-            print(rows[-1], flush=True)
+            if not NO_EQUAL:
+                extra = ["--spp", "1024", "--time-limit", str(EQUAL_TIME), "--set",
+                         "vpl.count=1024"]
+                cells = [cell(scene, ref, "vpl", smp, clamp, extra, "eqt") for smp in SAMPLERS]
+                rows.append((scene, "vpl, equal time" + label, f"1024, {EQUAL_TIME:g} s", cells,
+                             False))
+                print(rows[-1], flush=True)
+            if BUDGET:
+                for integ in BUDGET_INTEGRATORS:
+                    extra = ["--spp", "4096", "--time-limit", str(EQUAL_TIME)]
+                    cells = [cell(scene, ref, integ, smp, clamp, extra, "budget")
+                             for smp in SAMPLERS]
+                    rows.append((scene, f"{integ}, equal time, count to the time" + label,
+                                 f"{EQUAL_TIME:g} s", cells, True))
+                    print(rows[-1], flush=True)
     print("| scene | integrator | VPLs | " + " | ".join(SAMPLERS) + " |")
     print("|---|---|---|" + "---|" * len(SAMPLERS))
     for scene, integ, count, cells, show in rows:

@@ -52,7 +52,14 @@ void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
     if (o->kind == VplSamplerKind::Metropolis) {
         o->tries = s.get_int("vpl.metropolis.tries", o->tries);
         o->mir_pilot = s.get_int("vpl.metropolis.pilot", o->mir_pilot);
+        o->mir_chains = s.get_int("vpl.metropolis.chains", o->mir_chains);
+        o->mir_large_step = s.get_float("vpl.metropolis.large_step", o->mir_large_step);
+        o->mir_cap = s.get_float("vpl.metropolis.cap", o->mir_cap);
     }
+    if (!(o->mir_cap >= 0)) throw UsageError("vpl.metropolis.cap must be >= 0 (0: no bound)");
+    if (o->mir_chains < 1) throw UsageError("vpl.metropolis.chains must be >= 1");
+    if (!(o->mir_large_step >= 0 && o->mir_large_step <= 1))
+        throw UsageError("vpl.metropolis.large_step must be in [0, 1]");
     if (o->pilot < 1 || o->pilot_paths < 1 || o->candidates < 1 || o->tries < 1 || o->mir_pilot < 1)
         throw UsageError(
             "vpl.pilot, vpl.pilot_paths, vpl.candidates, vpl.metropolis.tries and "

@@ -20,11 +20,14 @@ enum class VplSamplerKind : uint8_t { Standard, Power, Bidirectional, Metropolis
 
 struct VplSamplerOptions {
     VplSamplerKind kind = VplSamplerKind::Standard;
-    int pilot = 256;         // power, bidirectional: camera points of the pilot pass
-    int pilot_paths = 1024;  // power: light paths of the pilot pass
-    int candidates = 4;      // bidirectional: candidates per VPL kept by resampling
-    int tries = 1;           // metropolis: proposals per step (1: plain Metropolis-Hastings)
-    int mir_pilot = 4096;    // metropolis: camera points that measure each VPL's power
+    int pilot = 256;               // power, bidirectional: camera points of the pilot pass
+    int pilot_paths = 1024;        // power: light paths of the pilot pass
+    int candidates = 4;            // bidirectional: candidates per VPL kept by resampling
+    int tries = 1;                 // metropolis: proposals per step (1: plain Metropolis-Hastings)
+    int mir_pilot = 4096;          // metropolis: camera points that measure each VPL's power
+    int mir_chains = 16;           // metropolis: independent chains sharing the steps
+    float mir_large_step = 0.25f;  // metropolis: probability of a large step
+    float mir_cap = 1;  // metropolis: the target's bound on a VPL's light at x1, times P_c (0: f)
 };
 
 struct VplOptions {

@@ -39,13 +39,19 @@ std::vector<float> power_light_pmf(const Scene& scene, const PerspectiveCamera& 
 void sample_bidirectional_vpls(const Scene& scene, const PerspectiveCamera& camera,
                                const VplOptions& options, PointLightSet& set);
 
-// metropolis: the chain's record, for tests and measurements: per step, the current state's VPL
-// position and f; P_c, the power the kept geometric VPLs were given (sum of P_i), their count.
+// metropolis: the chains' record, for tests and measurements: per step, the current state's VPL
+// position and f (chain after chain); P_c, the power the kept geometric VPLs were given (sum of
+// P_i), their count; per mutation (large, camera, light) the steps that proposed it and those
+// accepted; each geometric VPL's multiplicity (the run of steps that kept its light side); the
+// bootstrap paths with f > 0 and the distinct ones the chains start from.
 struct MirTrace {
     std::vector<Vec3> positions;
     std::vector<float> contributions;
     double Pc = 0, kept_power = 0;
     size_t geometric = 0, steps = 0;
+    size_t proposed[3] = {}, accepted[3] = {};
+    std::vector<double> runs;
+    size_t bootstrap_nonzero = 0, distinct_starts = 0;
 };
 void sample_metropolis_vpls(const Scene& scene, const PerspectiveCamera& camera,
                             const VplOptions& options, PointLightSet& set,
