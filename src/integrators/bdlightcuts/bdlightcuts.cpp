@@ -21,9 +21,16 @@ namespace {
 // D of a point light towards unit direction w (from the light): the light side's lobe as in
 // split_weights.h. VPLs: f(w, wi) |cos| of their surface (the largest channel of f);
 // emitters: their emission's density. Every channel of the light's intensity towards w is at
-// most D times the light's flux (light_flux).
+// most D times the light's flux (light_flux). Delta emitters (point and spot lights, the
+// emitters' omni points) count as D = 0, as distant lights do: no later split can take a path
+// that ends at them (no eye path meets them), so clamping their connections would only lose
+// the clamped part (bench/RESULTS.md, "Issue 17, session 14").
+bool delta_emitter(const PointLight& pl) {
+    return !pl.is_vpl && (pl.kind == PointLightKind::Directional || pl.kind == PointLightKind::Omni);
+}
+
 float light_density(const PointLightSet& set, const PointLight& pl, const Vec3& w) {
-    if (pl.kind == PointLightKind::Directional) return 0.f;
+    if (delta_emitter(pl)) return 0.f;
     if (pl.is_vpl) {
         if (pl.surface >= 0) {
             const VplSurface& s = set.surfaces[size_t(pl.surface)];
@@ -32,20 +39,18 @@ float light_density(const PointLightSet& set, const PointLight& pl, const Vec3& 
         }
         return pl.diffuse_f * std::max(0.f, dot(pl.n, w));
     }
-    if (pl.kind == PointLightKind::Oriented) return std::max(0.f, dot(pl.n, w)) / kPi;
-    return 1.f / (4 * kPi);
+    return std::max(0.f, dot(pl.n, w)) / kPi;  // an area light's oriented point
 }
 
 // The flux Phi of a point light, channel by channel, with I(w) <= Phi D(w) (light_density);
 // +infinity for directional lights, which have no D.
 RGB light_flux(const PointLightSet& set, const PointLight& pl) {
-    if (pl.kind == PointLightKind::Directional) return RGB(kInfinity);
+    if (delta_emitter(pl)) return RGB(kInfinity);
     if (pl.is_vpl) {
         if (pl.surface >= 0) return set.surfaces[size_t(pl.surface)].flux;
         return pl.diffuse_f > 0 ? pl.intensity * (1.f / pl.diffuse_f) : RGB();
     }
-    if (pl.kind == PointLightKind::Oriented) return pl.intensity * kPi;
-    return pl.intensity * (4 * kPi);
+    return pl.intensity * kPi;
 }
 
 // An upper bound of D_j, the VSP's lobe towards the eye f(wo, wi) |cos wo|, over every light
@@ -161,13 +166,16 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // The point-light set is `vpl`'s, with the emitters as point lights, whole BSDFs at the VPLs
     // and no clamping: the split weights do what those settings do for `vpl`.
     m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "points"});
-    if (settings.get_string("lights.direct", "points") != "points")
-        throw UsageError("bdlightcuts: lights.direct must be points (the emitters' split)");
+    // lights.direct=sample: the split that joins a VSP to an emitter by a light sample at the
+    // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
+    // in the cut (the delta lights stay points).
+    m_direct_sample = m_settings.lights.sampled_direct;
+    if (m_direct_sample && settings.get_int("lights.direct_samples", 1) != 1)
+        throw UsageError("bdlightcuts: lights.direct_samples must be 1 (one light sample per VSP)");
     if (settings.get_string("vpl.glossy", "bsdf") != "bsdf")
         throw UsageError("bdlightcuts: vpl.glossy must be bsdf (the diffuse weight replaces it)");
     if (settings.get_float("vpl.clamp", 0.f) != 0.f)
         throw UsageError("bdlightcuts: vpl.clamp must be 0 (the clamping weight replaces it)");
-    m_settings.lights.sampled_direct = false;
     m_settings.lights.vpl_glossy = GlossyVpls::Bsdf;
     m_settings.clamp = 0;
 
@@ -215,6 +223,9 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
     // The previous vertex's light sample, which the emission a BSDF sample finds is weighed
     // against (MIS; none from the camera or after a delta lobe's sample).
     bool prev_nee = false;
+    // Whether the previous vertex took a light sample for its split to an emitter
+    // (`lights.direct=sample`) that the emission found by its BSDF sample is weighed against.
+    bool prev_direct = false;
     float prev_pdf = 0;
     LightSampleContext prev_ctx;
     for (int depth = 0;; ++depth) {  // depth: scattering vertices before this hit
@@ -225,12 +236,20 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                                 m_nee_lights.get());
         if (!le.is_black()) {
             // The last split: what the earlier ones left, x_{j+1} being the emitter.
-            float pre = prefix;
+            float pre = prefix, w_prev = 0;
             if (pending) {
                 float dk = hit ? abs_dot(si.ng, si.wo) / kPi : 0.f;
-                pre += split_weight(m_weights, pre, pending_m * t_prev * dk, dk, pending_mu);
+                w_prev = split_weight(m_weights, pre, pending_m * t_prev * dk, dk, pending_mu);
+                pre += w_prev;
             }
             L += beta * le * emission_weight(m_weights, pre, spread_mu(m_weights, theta));
+            // The split to this emitter from the previous vertex, its BSDF sample's share.
+            if (prev_direct && w_prev > 0) {
+                RGB le_mis = prev_nee ? le
+                                      : emission_along(scene, ray, hit ? &si : nullptr, false,
+                                                       prev_pdf, prev_ctx, m_nee_lights.get());
+                L += beta * le_mis * w_prev;
+            }
         }
         if (!hit || depth >= m_settings.max_depth) break;
         if (vsps >= m_eye_length) {
@@ -269,6 +288,41 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             }
             ++vsps;
         }
+        // Split j to an emitter by a light sample (`lights.direct=sample`). The weight is split
+        // j's for that point (SplitWeighting::weight's for an emitter's point).
+        auto split_to_light = [&](const Light& light, const LightLiSample& ls, float* pre_j) {
+            float f = bsdf.eval(si.wo, ls.wi).max_component();
+            float pre = prefix;
+            if (pending) {
+                float d = f * abs_dot(si.wo, n);
+                pre += split_weight(m_weights, pre, pending_m * t_prev * d, d, pending_mu);
+            }
+            float m = f * abs_dot(ls.wi, si.ns), dk = 0, t = 1;
+            if (light.type() == LightType::Area) {
+                dk = abs_dot(ls.n_light, ls.wi) / kPi;
+                t = 1.f / std::max(1e-12f, length_squared(ls.p_light - si.p));
+            }
+            *pre_j = pre;
+            return split_weight(m_weights, pre, m * t * dk, dk, spread_mu(m_weights, theta));
+        };
+        bool direct_mis = false;
+        if (m_direct_sample && bsdf.has_nonspecular()) {
+            direct_mis = m_settings.direct_mis || (bsdf.flags() & kBxdfGlossy);
+            float u_select = sampler.get_1d();
+            Vec2 u_light = sampler.get_2d();
+            if (auto sl = m_nee_lights->sample(light_context(si), u_select);
+                sl && !is_delta_light(sl->light->type())) {
+                const Light& light = *sl->light;
+                auto split_j = [&](const LightLiSample& ls) {
+                    float pre;
+                    return split_to_light(light, ls, &pre);
+                };
+                L += beta *
+                     estimate_direct(scene, si, bsdf, light, u_light, direct_mis, sl->pmf,
+                                     split_j) /
+                     sl->pmf;
+            }
+        }
         // The last split's light sample (`bdlightcuts.emission=mis`): the emitter met from x_j
         // along a light sample instead of the BSDF's, with the same weight as there.
         if (m_emission_mis && bsdf.has_nonspecular()) {
@@ -278,20 +332,12 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                 sl && !is_delta_light(sl->light->type())) {
                 // The weight as where the BSDF's sample meets the emitter (x_{j+1} = the light
                 // sample's point): w_{j-1} with D_j towards it, then what w_j leaves.
+                const Light& light = *sl->light;
                 auto last_split = [&](const LightLiSample& ls) {
-                    float f = bsdf.eval(si.wo, ls.wi).max_component();
-                    float pre = prefix;
-                    if (pending) {
-                        float d = f * abs_dot(si.wo, n);
-                        pre += split_weight(m_weights, pre, pending_m * t_prev * d, d, pending_mu);
-                    }
-                    float m = f * abs_dot(ls.wi, si.ns), dk = 0, t = 1;
-                    if (sl->light->type() == LightType::Area) {
-                        dk = abs_dot(ls.n_light, ls.wi) / kPi;
-                        t = 1.f / std::max(1e-12f, length_squared(ls.p_light - si.p));
-                    }
-                    pre +=
-                        split_weight(m_weights, pre, m * t * dk, dk, spread_mu(m_weights, theta));
+                    float pre;
+                    const float w_j = split_to_light(light, ls, &pre);
+                    pre += w_j;
+                    float m = bsdf.eval(si.wo, ls.wi).max_component() * abs_dot(ls.wi, si.ns);
                     return emission_weight(m_weights, pre,
                                            spread_mu(m_weights, theta + lobe_spread(m)));
                 };
@@ -306,6 +352,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
         prev_nee = m_emission_mis && !bs->is_specular();
+        prev_direct = direct_mis && !bs->is_specular();
         prev_pdf = bs->pdf_solid_angle;
         prev_ctx = light_context(si);
         if (bs->is_specular()) {
@@ -335,7 +382,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
     build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
-    if (m_rest_path || m_emission_mis)
+    if (m_rest_path || m_emission_mis || m_direct_sample)
         m_nee_lights = std::make_unique<LightSampler>("tree", ctx.scene.lights());
     m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
     m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0, m_rests = 0;

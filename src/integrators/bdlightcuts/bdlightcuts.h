@@ -76,6 +76,8 @@ private:
     // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
     // light samples weighed by MIS (true), or by BSDF samples alone.
     bool m_emission_mis = false;
+    // lights.direct=sample: the emitters' split by a light sample at each VSP (not their points).
+    bool m_direct_sample = false;
     // The remainder's and the last split's next-event estimation.
     std::unique_ptr<LightSampler> m_nee_lights;
     float m_error = 0.1f;
