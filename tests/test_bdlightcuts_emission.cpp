@@ -121,21 +121,21 @@ TEST(BdLightcutsEmission, SeveralRemainderPathsAgreeWithPath) {
 
 TEST(BdLightcutsEmission, EmittersAsPointsOrByLightSamplesAgreeWithPath) {
     // The default (the emitters' points in the cut): the point light's pairs take no clamping
-    // (before session 14 its clamped part was lost: 30% dark beside it). lights.direct=sample: the split joining a VSP to an area light by a light sample at the
-    // VSP, weighed by MIS against the eye path's BSDF sample (or alone at diffuse VSPs with
-    // lights.direct_mis=glossy), in place of the emitters' points in the cut; a point light
-    // stays a point of the cut.
+    // (before session 14 its clamped part was lost: 30% dark beside it). lights.direct=sample: the
+    // split joining a VSP to an area light by a light sample at the VSP, weighed by MIS against the
+    // eye path's BSDF sample (or alone at diffuse VSPs with lights.direct_mis=glossy), in place of
+    // the emitters' points in the cut; a point light stays a point of the cut.
     const std::string scene = kWideLight;
     auto ref = test::render_twice(scene, "path", 512, 4, 16, {}, 4);
     auto points = test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({}), 4);
-    auto hit = test::render_twice(scene, "bdlightcuts", 32, 4, 16,
-                                  bdlc({{"lights.direct", "sample"}}), 4);
-    auto mis = test::render_twice(
-        scene, "bdlightcuts", 32, 4, 16,
-        bdlc({{"lights.direct", "sample"}, {"bdlightcuts.emission", "mis"}}), 4);
-    auto alone = test::render_twice(
-        scene, "bdlightcuts", 32, 4, 16,
-        bdlc({{"lights.direct", "sample"}, {"lights.direct_mis", "glossy"}}), 4);
+    auto hit =
+        test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({{"lights.direct", "sample"}}), 4);
+    auto mis =
+        test::render_twice(scene, "bdlightcuts", 32, 4, 16,
+                           bdlc({{"lights.direct", "sample"}, {"bdlightcuts.emission", "mis"}}), 4);
+    auto alone =
+        test::render_twice(scene, "bdlightcuts", 32, 4, 16,
+                           bdlc({{"lights.direct", "sample"}, {"lights.direct_mis", "glossy"}}), 4);
     test::expect_agreement(points, ref, 8, "direct=points");
     test::expect_agreement(hit, ref, 8, "direct=sample");
     test::expect_agreement(mis, ref, 8, "direct=sample emission=mis");

@@ -26,7 +26,8 @@ namespace {
 // that ends at them (no eye path meets them), so clamping their connections would only lose
 // the clamped part (bench/RESULTS.md, "Issue 17, session 14").
 bool delta_emitter(const PointLight& pl) {
-    return !pl.is_vpl && (pl.kind == PointLightKind::Directional || pl.kind == PointLightKind::Omni);
+    return !pl.is_vpl &&
+           (pl.kind == PointLightKind::Directional || pl.kind == PointLightKind::Omni);
 }
 
 float light_density(const PointLightSet& set, const PointLight& pl, const Vec3& w) {
@@ -317,10 +318,10 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                     float pre;
                     return split_to_light(light, ls, &pre);
                 };
-                L += beta *
-                     estimate_direct(scene, si, bsdf, light, u_light, direct_mis, sl->pmf,
-                                     split_j) /
-                     sl->pmf;
+                L +=
+                    beta *
+                    estimate_direct(scene, si, bsdf, light, u_light, direct_mis, sl->pmf, split_j) /
+                    sl->pmf;
             }
         }
         // The last split's light sample (`bdlightcuts.emission=mis`): the emitter met from x_j
