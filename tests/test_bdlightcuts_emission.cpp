@@ -120,14 +120,16 @@ TEST(BdLightcutsEmission, SeveralRemainderPathsAgreeWithPath) {
 }
 
 TEST(BdLightcutsEmission, EmittersAsPointsOrByLightSamplesAgreeWithPath) {
-    // The default (the emitters' points in the cut): the point light's pairs take no clamping
-    // (before session 14 its clamped part was lost: 30% dark beside it). lights.direct=sample: the
-    // split joining a VSP to an area light by a light sample at the VSP, weighed by MIS against the
-    // eye path's BSDF sample (or alone at diffuse VSPs with lights.direct_mis=glossy), in place of
-    // the emitters' points in the cut; a point light stays a point of the cut.
+    // lights.direct=points (the emitters' points in the cut): the point light's pairs take no
+    // clamping (before session 14 its clamped part was lost: 30% dark beside it).
+    // lights.direct=sample (the default): the split joining a VSP to an area light by a light
+    // sample at the VSP, weighed by MIS against the eye path's BSDF sample (or alone at diffuse
+    // VSPs with lights.direct_mis=glossy), in place of the emitters' points in the cut; a point
+    // light stays a point of the cut.
     const std::string scene = kWideLight;
     auto ref = test::render_twice(scene, "path", 512, 4, 16, {}, 4);
-    auto points = test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({}), 4);
+    auto points =
+        test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({{"lights.direct", "points"}}), 4);
     auto hit =
         test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({{"lights.direct", "sample"}}), 4);
     auto mis =

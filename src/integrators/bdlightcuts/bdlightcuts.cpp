@@ -166,13 +166,15 @@ struct BdLightcutsIntegrator::ThreadState {
 BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // The point-light set is `vpl`'s, with the emitters as point lights, whole BSDFs at the VPLs
     // and no clamping: the split weights do what those settings do for `vpl`.
-    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "points"});
+    // lights.direct defaults to sample: bench/RESULTS.md, "Issue 17, session 14".
+    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample"});
     // lights.direct=sample: the split that joins a VSP to an emitter by a light sample at the
     // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
     // in the cut (the delta lights stay points).
     m_direct_sample = m_settings.lights.sampled_direct;
     if (m_direct_sample && settings.get_int("lights.direct_samples", 1) != 1)
         throw UsageError("bdlightcuts: lights.direct_samples must be 1 (one light sample per VSP)");
+    m_settings.direct_samples = 1;
     if (settings.get_string("vpl.glossy", "bsdf") != "bsdf")
         throw UsageError("bdlightcuts: vpl.glossy must be bsdf (the diffuse weight replaces it)");
     if (settings.get_float("vpl.clamp", 0.f) != 0.f)

@@ -14,7 +14,10 @@
 // traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`, averaged over
 // `bdlightcuts.rest_paths` paths), or dropped. The last split can also take light samples at
 // the eye vertices, with its own weight, weighed against the BSDF samples by MIS
-// (`bdlightcuts.emission=mis`).
+// (`bdlightcuts.emission=mis`). The split that joins a VSP to an area or infinite light is a light
+// sample at the VSP, weighed by MIS against the eye path's BSDF sample (`lights.direct=sample`,
+// the default), or the emitters' points in the cut (`lights.direct=points`); delta lights are
+// always points of the cut, and their pairs take no clamping (no other split reaches them).
 #pragma once
 
 #include <atomic>
@@ -76,8 +79,9 @@ private:
     // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
     // light samples weighed by MIS (true), or by BSDF samples alone.
     bool m_emission_mis = false;
-    // lights.direct=sample: the emitters' split by a light sample at each VSP (not their points).
-    bool m_direct_sample = false;
+    // lights.direct=sample (the default): the emitters' split by a light sample at each VSP;
+    // points: by the emitters' points in the cut.
+    bool m_direct_sample = true;
     // The remainder's and the last split's next-event estimation.
     std::unique_ptr<LightSampler> m_nee_lights;
     float m_error = 0.1f;
