@@ -144,6 +144,23 @@ TEST(BdLightcutsEmission, EmittersAsPointsOrByLightSamplesAgreeWithPath) {
     test::expect_agreement(alone, ref, 8, "direct=sample direct_mis=glossy");
 }
 
+TEST(BdLightcutsEmission, InfiniteLightByLightSamplesAgreesWithPath) {
+    // An infinite light's split by light samples (D = 0 there: no clamping) and the escaped eye
+    // path's share of it, with the defaults (lights.direct=sample).
+    std::string scene = kWideLight;
+    const std::string world = "WorldBegin\n";
+    scene.insert(scene.find(world) + world.size(),
+                 "LightSource \"infinite\" \"rgb L\" [ 0.2 0.25 0.3 ]\n");
+    auto ref = test::render_twice(scene, "path", 512, 4, 16, {}, 4);
+    auto sample = test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({}), 4);
+    // A uniform infinite light leaves MIS's light samples nothing (their density is 0 where BSDF
+    // samples do well); with lights.direct_mis=glossy, diffuse VSPs take it by light samples alone.
+    auto alone = test::render_twice(scene, "bdlightcuts", 32, 4, 16,
+                                    bdlc({{"lights.direct_mis", "glossy"}}), 4);
+    test::expect_agreement(sample, ref, 8, "infinite light, direct=sample");
+    test::expect_agreement(alone, ref, 8, "infinite light, direct_mis=glossy");
+}
+
 TEST(BdLightcutsEmission, SettingsTakeOnlyWhatTheyExpect) {
     expect_usage_error({{"lights.direct", "sample"}, {"lights.direct_samples", "2"}},
                        "lights.direct_samples must be 1");
