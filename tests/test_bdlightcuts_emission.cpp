@@ -1,8 +1,8 @@
 // bdlightcuts' last split (the emitter met by the eye path) by light samples as well as BSDF
-// samples, weighed by MIS (`bdlightcuts.emission=mis`), and the remainder's paths per continued
-// eye path (`bdlightcuts.rest_paths`): both estimate the same split-weighted sum as before, so
-// they agree with `path`; the light samples lower the variance where clamping leaves most of a
-// close light to the last split.
+// samples, weighed by MIS (`bdlightcuts.emission=mis`, the default), and the remainder's paths per
+// continued eye path (`bdlightcuts.rest_paths`): both estimate the same split-weighted sum as
+// before, so they agree with `path`; the light samples lower the variance where clamping leaves
+// most of a close light to the last split.
 #include <gtest/gtest.h>
 
 #include "bidir_test_helpers.h"
@@ -103,8 +103,13 @@ TEST(BdLightcutsEmission, LightSamplesAgreeWithPathAndLowerTheVariance) {
                                   bdlc({{"bdlightcuts.emission", "mis"}}), 4);
     auto hit = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16,
                                   bdlc({{"bdlightcuts.emission", "hit"}}), 4);
+    // At the diffuse floor's VSPs with lights.direct_mis=glossy the emitters' split takes its
+    // light sample alone, and the last split its BSDF samples alone (most of the close light).
+    auto alone = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16,
+                                    bdlc({{"lights.direct_mis", "glossy"}}), 4);
     test::expect_agreement(mis, ref, 8, "emission=mis");
     test::expect_agreement(hit, ref, 8, "emission=hit");
+    test::expect_agreement(alone, ref, 8, "emission=mis direct_mis=glossy");
     // Where the last split carries the close light, light samples find it every time.
     EXPECT_LT(pixel_variance(mis), 0.7 * pixel_variance(hit))
         << "mis " << pixel_variance(mis) << ", hit " << pixel_variance(hit);
@@ -125,23 +130,24 @@ TEST(BdLightcutsEmission, EmittersAsPointsOrByLightSamplesAgreeWithPath) {
     // lights.direct=sample (the default): the split joining a VSP to an area light by a light
     // sample at the VSP, weighed by MIS against the eye path's BSDF sample (or alone at diffuse
     // VSPs with lights.direct_mis=glossy), in place of the emitters' points in the cut; a point
-    // light stays a point of the cut.
+    // light stays a point of the cut. With emission=mis (the default) the last split takes light
+    // samples too: with points, its own; with sample, the emitters' split's, which carries both
+    // weights where it is weighed by MIS (not at diffuse VSPs with direct_mis=glossy).
     const std::string scene = kWideLight;
     auto ref = test::render_twice(scene, "path", 512, 4, 16, {}, 4);
-    auto points =
-        test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({{"lights.direct", "points"}}), 4);
-    auto hit =
-        test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc({{"lights.direct", "sample"}}), 4);
-    auto mis =
-        test::render_twice(scene, "bdlightcuts", 32, 4, 16,
-                           bdlc({{"lights.direct", "sample"}, {"bdlightcuts.emission", "mis"}}), 4);
-    auto alone =
-        test::render_twice(scene, "bdlightcuts", 32, 4, 16,
-                           bdlc({{"lights.direct", "sample"}, {"lights.direct_mis", "glossy"}}), 4);
-    test::expect_agreement(points, ref, 8, "direct=points");
-    test::expect_agreement(hit, ref, 8, "direct=sample");
-    test::expect_agreement(mis, ref, 8, "direct=sample emission=mis");
-    test::expect_agreement(alone, ref, 8, "direct=sample direct_mis=glossy");
+    auto render = [&](const Set& s) {
+        return test::render_twice(scene, "bdlightcuts", 32, 4, 16, bdlc(s), 4);
+    };
+    auto points_hit = render({{"lights.direct", "points"}, {"bdlightcuts.emission", "hit"}});
+    auto points_mis = render({{"lights.direct", "points"}});
+    auto sample_hit = render({{"lights.direct", "sample"}, {"bdlightcuts.emission", "hit"}});
+    auto sample_mis = render({});
+    auto alone = render({{"lights.direct_mis", "glossy"}});
+    test::expect_agreement(points_hit, ref, 8, "direct=points emission=hit");
+    test::expect_agreement(points_mis, ref, 8, "direct=points emission=mis");
+    test::expect_agreement(sample_hit, ref, 8, "direct=sample emission=hit");
+    test::expect_agreement(sample_mis, ref, 8, "direct=sample emission=mis");
+    test::expect_agreement(alone, ref, 8, "direct=sample emission=mis direct_mis=glossy");
 }
 
 TEST(BdLightcutsEmission, InfiniteLightByLightSamplesAgreesWithPath) {

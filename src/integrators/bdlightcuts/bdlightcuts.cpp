@@ -308,9 +308,19 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             *pre_j = pre;
             return split_weight(m_weights, pre, m * t * dk, dk, spread_mu(m_weights, theta));
         };
-        bool direct_mis = false;
+        // The last split's weight for the emitter met from x_j along wi (x_{j+1} on it), w_j
+        // being split j's for that point and pre the weights before it.
+        auto last_split = [&](const LightLiSample& ls, float pre, float w_j) {
+            float m = bsdf.eval(si.wo, ls.wi).max_component() * abs_dot(ls.wi, si.ns);
+            return emission_weight(m_weights, pre + w_j,
+                                   spread_mu(m_weights, theta + lobe_spread(m)));
+        };
+        // Whether split j's light sample is weighed by MIS, and whether it also carries the last
+        // split's weight (emission=mis: the same path, x_j joined to a point of the emitter).
+        bool direct_mis = false, last_by_light = false;
         if (m_direct_sample && bsdf.has_nonspecular()) {
             direct_mis = m_settings.direct_mis || (bsdf.flags() & kBxdfGlossy);
+            last_by_light = m_emission_mis && direct_mis;
             float u_select = sampler.get_1d();
             Vec2 u_light = sampler.get_2d();
             if (auto sl = m_nee_lights->sample(light_context(si), u_select);
@@ -318,7 +328,8 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                 const Light& light = *sl->light;
                 auto split_j = [&](const LightLiSample& ls) {
                     float pre;
-                    return split_to_light(light, ls, &pre);
+                    float w = split_to_light(light, ls, &pre);
+                    return last_by_light ? w + last_split(ls, pre, w) : w;
                 };
                 L +=
                     beta *
@@ -326,27 +337,24 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                     sl->pmf;
             }
         }
-        // The last split's light sample (`bdlightcuts.emission=mis`): the emitter met from x_j
-        // along a light sample instead of the BSDF's, with the same weight as there.
-        if (m_emission_mis && bsdf.has_nonspecular()) {
+        // The last split's own light sample (`bdlightcuts.emission=mis` with
+        // `lights.direct=points`): the emitter met from x_j along a light sample instead of the
+        // BSDF's, with the same weight as there (w_{j-1} with D_j towards it, then what w_j
+        // leaves).
+        if (m_emission_mis && !m_direct_sample && bsdf.has_nonspecular()) {
             float u_select = sampler.get_1d();
             Vec2 u_light = sampler.get_2d();
             if (auto sl = m_nee_lights->sample(light_context(si), u_select);
                 sl && !is_delta_light(sl->light->type())) {
-                // The weight as where the BSDF's sample meets the emitter (x_{j+1} = the light
-                // sample's point): w_{j-1} with D_j towards it, then what w_j leaves.
                 const Light& light = *sl->light;
-                auto last_split = [&](const LightLiSample& ls) {
+                auto last_only = [&](const LightLiSample& ls) {
                     float pre;
                     const float w_j = split_to_light(light, ls, &pre);
-                    pre += w_j;
-                    float m = bsdf.eval(si.wo, ls.wi).max_component() * abs_dot(ls.wi, si.ns);
-                    return emission_weight(m_weights, pre,
-                                           spread_mu(m_weights, theta + lobe_spread(m)));
+                    return last_split(ls, pre, w_j);
                 };
                 L += beta *
                      estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf,
-                                     last_split) /
+                                     last_only) /
                      sl->pmf;
             }
         }
@@ -354,7 +362,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         Vec2 u = sampler.get_2d();
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
-        prev_nee = m_emission_mis && !bs->is_specular();
+        prev_nee = !bs->is_specular() && (m_direct_sample ? last_by_light : m_emission_mis);
         prev_direct = direct_mis && !bs->is_specular();
         prev_pdf = bs->pdf_solid_angle;
         prev_ctx = light_context(si);

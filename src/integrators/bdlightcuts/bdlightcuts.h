@@ -12,12 +12,14 @@
 // paths or drop it. A VSP whose pairs all weigh 0 (vsp_weight_bound) stays out of the VSP tree.
 // What no split up to the eye-path length takes, the remainder r (remainder_weight), is path
 // traced past the last VSP's next vertex with weight r (`bdlightcuts.rest=path`, averaged over
-// `bdlightcuts.rest_paths` paths), or dropped. The last split can also take light samples at
-// the eye vertices, with its own weight, weighed against the BSDF samples by MIS
-// (`bdlightcuts.emission=mis`). The split that joins a VSP to an area or infinite light is a light
-// sample at the VSP, weighed by MIS against the eye path's BSDF sample (`lights.direct=sample`,
-// the default), or the emitters' points in the cut (`lights.direct=points`); delta lights are
-// always points of the cut, and their pairs take no clamping (no other split reaches them).
+// `bdlightcuts.rest_paths` paths), or dropped. The last split also takes light samples at the
+// eye vertices, with its own weight, weighed against the BSDF samples by MIS
+// (`bdlightcuts.emission=mis`, the default); with `lights.direct=sample` that is the emitters'
+// split's light sample, which then carries both weights (one path, two splits). The split that
+// joins a VSP to an area or infinite light is a light sample at the VSP, weighed by MIS against the
+// eye path's BSDF sample (`lights.direct=sample`, the default), or the emitters' points in the cut
+// (`lights.direct=points`); delta lights are always points of the cut, and their pairs take no
+// clamping (no other split reaches them).
 #pragma once
 
 #include <atomic>
@@ -77,8 +79,9 @@ private:
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
     int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
     // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
-    // light samples weighed by MIS (true), or by BSDF samples alone.
-    bool m_emission_mis = false;
+    // light samples weighed by MIS (true), or by BSDF samples alone. With lights.direct=sample the
+    // light sample is the emitters' split's own (bench/RESULTS.md, "Issue 17, session 15").
+    bool m_emission_mis = true;
     // lights.direct=sample (the default): the emitters' split by a light sample at each VSP;
     // points: by the emitters' points in the cut.
     bool m_direct_sample = true;
