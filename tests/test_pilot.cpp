@@ -236,6 +236,79 @@ TEST(CutCap, RenderSamplePassesEndsWithAPassThatFillsTheTime) {
     }
 }
 
+// Where the cuts alone overrun the time left, the last pass is scaled down as a whole: samples
+// and cut both to the share phi = 0.95 x time left / pass time; worked out by hand.
+TEST(CutCap, ALastPassScaledDownWhereTheCutsAloneOverrun) {
+    // Half of an 8 s pass fixed, 3 s left: no pass of fewer samples fits (4 s of cuts); phi =
+    // 0.95 x 3 / 8 = 0.35625: 11 of 32 samples, cuts of 0.35625 of the mean.
+    LastPass p = last_pass(32, 8, 0.5, 3);
+    EXPECT_EQ(p.samples, 11);
+    EXPECT_NEAR(p.cut_share, 0.35625, 1e-9);
+    // Where fewer samples fit, the cuts stay whole (remainder_samples's 4).
+    p = last_pass(32, 8, 0.25, 3);
+    EXPECT_EQ(p.samples, 4);
+    EXPECT_EQ(p.cut_share, 1);
+    // Below kMinLastPassShare of a pass (0.95 x 0.5 / 8 = 0.059): none. A fixed share of 1
+    // (nothing measured): none. A pass of one sample keeps it, with smaller cuts.
+    EXPECT_EQ(last_pass(32, 8, 0.5, 0.5).samples, 0);
+    EXPECT_EQ(last_pass(32, 8, 1, 3).samples, 0);
+    p = last_pass(1, 8, 0.5, 3);
+    EXPECT_EQ(p.samples, 1);
+    EXPECT_NEAR(p.cut_share, 0.35625, 1e-9);
+    // Its cap: the share of the whole passes' mean cut, at least kMinLastPassCut, at most theirs.
+    EXPECT_EQ(last_pass_cap({11, 0.35625}, 128, 300), 45);
+    EXPECT_EQ(last_pass_cap({1, 0.1}, 128, 300), kMinLastPassCut);
+    EXPECT_EQ(last_pass_cap({11, 0.9}, 400, 300), 300);
+    EXPECT_EQ(last_pass_cap({4, 1}, 128, 300), 300);
+}
+
+// render_sample_passes where a pass's cost is almost all fixed (the cuts): the last pass is
+// scaled down as a whole, and the integrator hears of it before it runs.
+TEST(CutCap, RenderSamplePassesScalesTheLastPassDown) {
+    Scene scene(parse_scene_string(default_scene_text(), "."));
+    const int w = 16, h = 16;
+    PerspectiveCamera camera(ParameterList{}, AnimatedTransform(Transform()), w, h);
+    auto filter = create_filter("box", ParameterList{}, FileLoc{});
+    auto sampler = create_sampler("independent", 1, 1);
+    Film film(w, h);
+    const double limit = 1.0;
+    RenderContext ctx{scene, camera, *filter, film, *sampler, 1 << 20, limit};
+    const int n = 64;
+    std::atomic<int> heard{0}, last_calls{0};
+    LastPass told;
+    // About 0.35 s a pass of 64 samples on 2 threads (4 tiles of 8x8 pixels), what the last
+    // pass's smaller cut share shortens.
+    double share = 1;
+    SamplePasses done = render_sample_passes(
+        ctx, n, 0.99,
+        [&](Point2i, int, int samples) {
+            if (samples < n) ++last_calls;
+            std::this_thread::sleep_for(std::chrono::microseconds(int(43 * n * share)));
+        },
+        [&](const LastPass& plan) {
+            ++heard;
+            told = plan;
+            share = plan.cut_share;
+        });
+    EXPECT_LT(ctx.elapsed(), limit + 0.3);
+    EXPECT_LE(heard.load(), 1);
+    if (heard.load() == 0) {
+        EXPECT_EQ(last_calls.load(), 0);
+        return;
+    }
+    // The fixed part alone (99%) never fits in less than a whole pass: a scaled pass.
+    EXPECT_LT(told.cut_share, 1);
+    EXPECT_GE(told.cut_share, kMinLastPassShare);
+    EXPECT_GE(told.samples, 1);
+    EXPECT_LT(told.samples, n);
+    EXPECT_GT(last_calls.load(), 0);
+    if (done.last_samples > 0) {
+        EXPECT_EQ(done.last_samples, told.samples);
+        EXPECT_EQ(done.last_cut_share, told.cut_share);
+        EXPECT_EQ(done.samples, done.whole * n + told.samples);
+    }
+}
+
 TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
     std::atomic<int> low{0}, full{0};
     CutProbe probe = probe_cuts(320, 180, 64, 1000, 1, 1e6, [&](Point2i p, int cap, int samples) {

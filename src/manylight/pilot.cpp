@@ -118,9 +118,27 @@ int remainder_samples(int pass_samples, double pass_seconds, double fixed_share,
     return int(std::clamp(std::floor(k), 0.0, double(pass_samples - 1)));
 }
 
+LastPass last_pass(int pass_samples, double pass_seconds, double fixed_share, double seconds) {
+    LastPass out;
+    out.samples = remainder_samples(pass_samples, pass_seconds, fixed_share, seconds);
+    if (out.samples > 0 || !(pass_seconds > 0) || !(seconds > 0) || !(fixed_share < 1)) return out;
+    const double phi = std::min(1.0, kRoundTimeShare * seconds / pass_seconds);
+    if (phi < kMinLastPassShare) return out;
+    out.samples = std::clamp(int(std::floor(phi * pass_samples)), 1, pass_samples);
+    out.cut_share = phi;
+    return out;
+}
+
+int last_pass_cap(const LastPass& plan, double mean_size, int cap) {
+    if (!(plan.cut_share < 1)) return cap;
+    const double c = std::floor(plan.cut_share * mean_size);
+    return std::min(cap, std::max(kMinLastPassCut, std::isfinite(c) ? int(c) : cap));
+}
+
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
-    const std::function<void(Point2i pixel, int first, int samples)>& fn) {
+    const std::function<void(Point2i pixel, int first, int samples)>& fn,
+    const std::function<void(const LastPass& plan)>& last) {
     const int64_t n = pass_samples, passes = (int64_t(ctx.spp) + n - 1) / n;
     const double start = ctx.elapsed();
     SamplePasses out;
@@ -132,16 +150,24 @@ SamplePasses render_sample_passes(
     // A round cut short by the limit leaves its samples in some tiles: none is taken again.
     if (!(ctx.time_limit > 0) || out.whole == 0 || out.whole >= passes || ctx.out_of_time())
         return out;
-    int64_t k = remainder_samples(pass_samples, out.pass_seconds, fixed_share,
-                                  ctx.time_limit - ctx.elapsed());
-    k = std::min<int64_t>(k, int64_t(ctx.spp) - out.samples);
-    if (ctx.ranks() > 1) k = ctx.world->all_min(k);
+    LastPass plan =
+        last_pass(pass_samples, out.pass_seconds, fixed_share, ctx.time_limit - ctx.elapsed());
+    int64_t k = std::min<int64_t>(plan.samples, int64_t(ctx.spp) - out.samples);
+    if (ctx.ranks() > 1) {
+        // Every rank takes the least pass: the fewest samples and the smallest cut share.
+        k = ctx.world->all_min(k);
+        plan.cut_share =
+            double(ctx.world->all_min(int64_t(std::floor(plan.cut_share * 1e6)))) * 1e-6;
+    }
     if (k <= 0) return out;
+    plan.samples = int(k);
+    if (last) last(plan);
     const int first = int(out.samples);
     if (render_pixels(ctx, 1, [&](Point2i pixel, int64_t, int64_t) { fn(pixel, first, int(k)); }) ==
         1) {
         out.samples += k;
         out.last_samples = int(k);
+        out.last_cut_share = plan.cut_share;
     }
     return out;
 }

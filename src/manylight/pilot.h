@@ -68,6 +68,27 @@ int pass_samples(int samples, const CutCapPlan& plan);
 // In [0, pass_samples - 1]; 0 when none fits.
 int remainder_samples(int pass_samples, double pass_seconds, double fixed_share, double seconds);
 
+// The last pass under a time limit: its samples (0: none) and the share of the whole passes'
+// mean cut size its cuts may take (1: the passes' own cap).
+struct LastPass {
+    int samples = 0;
+    double cut_share = 1;
+};
+// The smallest share of a whole pass's time that a last pass scaled down as a whole may take:
+// below it, its cuts would be a handful of pairs.
+constexpr double kMinLastPassShare = 0.1;
+// remainder_samples's pass where one fits. Where even its fixed part (the cuts) overruns the time
+// left, a pass scaled down as a whole to the share phi of a pass that fills kRoundTimeShare of
+// `seconds`: phi of the samples (at least 1) and cuts of phi of the mean size (a cut's time
+// taken as proportional to its pairs), if phi is at least kMinLastPassShare. A fixed share of 1
+// (nothing measured) scales nothing.
+LastPass last_pass(int pass_samples, double pass_seconds, double fixed_share, double seconds);
+
+// The cap of a last pass's cuts: plan.cut_share of the whole passes' mean cut size, at least
+// kMinLastPassCut and at most `cap` (the whole passes'); `cap` where the share is 1.
+constexpr int kMinLastPassCut = 16;
+int last_pass_cap(const LastPass& plan, double mean_size, int cap);
+
 // The passes of an integrator whose passes shade the whole film (mdlightcuts, bdlightcuts):
 // fn(pixel, first, samples) shades the pixel's samples [first, first + samples) as one pass.
 // Passes of `pass_samples` samples run through render_pixels up to ctx.spp; under a time limit,
@@ -76,14 +97,18 @@ int remainder_samples(int pass_samples, double pass_seconds, double fixed_share,
 // a pass of fewer samples keeps its mean right). Across ranks, every rank takes the least
 // remainder. Returns what was done (a pass cut short by the limit does not count).
 struct SamplePasses {
-    int64_t samples = 0;      // per pixel, in the passes that counted
-    int64_t whole = 0;        // whole passes among them
-    int last_samples = 0;     // the last pass's samples (0: none ran or it was cut short)
-    double pass_seconds = 0;  // the whole passes' mean wall time
+    int64_t samples = 0;        // per pixel, in the passes that counted
+    int64_t whole = 0;          // whole passes among them
+    int last_samples = 0;       // the last pass's samples (0: none ran or it was cut short)
+    double last_cut_share = 1;  // the last pass's LastPass::cut_share
+    double pass_seconds = 0;    // the whole passes' mean wall time
 };
+// Before the last pass, last(plan) tells the integrator its shape (its cuts' share of the mean
+// size: the integrator sets the cap its fn uses from its own figures of the whole passes).
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
-    const std::function<void(Point2i pixel, int first, int samples)>& fn);
+    const std::function<void(Point2i pixel, int first, int samples)>& fn,
+    const std::function<void(const LastPass& plan)>& last = {});
 
 // The share of the time left that a time-limited render plans its first pass to take.
 constexpr double kFirstPassTimeShare = 0.75;

@@ -440,9 +440,12 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         });
     const int pass_cap = cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, cap_plan);
+    // The cap of the pass being shaded: pass_cap, then the last pass's (manylight/pilot.h).
+    int cap = pass_cap;
     const SamplePasses done_passes = render_sample_passes(
-        ctx, m_pass_samples, cap_plan.fixed_share, [&](Point2i pixel, int first, int samples) {
-            PassEstimate e = estimate_pass(ctx, states.local(), pixel, first, pass_cap, samples);
+        ctx, m_pass_samples, cap_plan.fixed_share,
+        [&](Point2i pixel, int first, int samples) {
+            PassEstimate e = estimate_pass(ctx, states.local(), pixel, first, cap, samples);
             if (e.weight_sum == 0) return;
             ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
             m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
@@ -450,6 +453,12 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
             m_rests.fetch_add(uint64_t(e.rests), std::memory_order_relaxed);
             if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
+        },
+        [&](const LastPass& last) {
+            cap = last_pass_cap(
+                last,
+                double(m_pair_sum.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load())),
+                pass_cap);
         });
     const int done = int(done_passes.whole);
 
@@ -481,6 +490,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                                 {"spread", m_weights.spread}}},
                               {"passes", done},
                               {"last_pass_samples", done_passes.last_samples},
+                              {"last_pass_cap", cap},
                               {"pass_seconds", done_passes.pass_seconds},
                               {"avg_cut_size", double(m_pair_sum.load()) / pixel_passes},
                               {"capped_fraction", double(m_capped.load()) / pixel_passes},

@@ -83,9 +83,18 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_pass_samples = pass_samples(m_samples, m_cap_plan);
     // Passes of m_pass_samples samples per pixel, in the render loop's rounds (as
     // PixelIntegrator takes samples), and under a time limit a last, smaller one that fills it.
+    // The cap of the pass being shaded: m_pass_cap, then the last pass's (manylight/pilot.h).
+    m_cap = m_pass_cap;
     const SamplePasses done_passes = render_sample_passes(
-        ctx, m_pass_samples, m_cap_plan.fixed_share, [&](Point2i pixel, int first, int samples) {
+        ctx, m_pass_samples, m_cap_plan.fixed_share,
+        [&](Point2i pixel, int first, int samples) {
             render_pixel_pass(ctx, states.local(), pixel, first, samples);
+        },
+        [&](const LastPass& last) {
+            m_cap = last_pass_cap(
+                last,
+                double(m_pair_sum.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load())),
+                m_pass_cap);
         });
     const int done = int(done_passes.whole);
 
@@ -96,6 +105,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     if (std::string w = vpl_budget_warning(m_set); !w.empty()) result.warnings.push_back(w);
     result.stats["mdlightcuts"] = figures_json(ctx, done);
     result.stats["mdlightcuts"]["last_pass_samples"] = done_passes.last_samples;
+    result.stats["mdlightcuts"]["last_pass_cap"] = m_cap;
     result.stats["mdlightcuts"]["pass_seconds"] = done_passes.pass_seconds;
     double capped = double(m_capped.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load()));
     std::string warning =
@@ -112,7 +122,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
 
 void MdLightcutsIntegrator::render_pixel_pass(const RenderContext& ctx, ThreadState& ts,
                                               Point2i pixel, int first, int samples) const {
-    PassEstimate e = estimate_pass(ctx, ts, pixel, first, m_pass_cap, samples);
+    PassEstimate e = estimate_pass(ctx, ts, pixel, first, m_cap, samples);
     if (e.weight_sum == 0) return;
     ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
 

@@ -61,6 +61,7 @@ private:
     // The cap the passes use: max_cut, or under a time limit what lets the first pass end in
     // time (manylight/pilot.h: plan_pass_cut_cap).
     int m_pass_cap = 1000;
+    int m_cap = 1000;         // the cap of the pass being shaded: m_pass_cap, or the last pass's
     int m_pass_samples = 32;  // m_samples, or fewer where a time limit needs (pilot.h)
     CutCapPlan m_cap_plan;
     int m_tighten = 1;  // pairs whose gather node has at most this many members get tight bounds
