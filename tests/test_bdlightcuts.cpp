@@ -499,6 +499,32 @@ TEST(BdLightcuts, RestTakesPathOrDrop) {
     }
 }
 
+TEST(BdLightcuts, VspTreeByDepthOrByPositionAgree) {
+    // The VSP tree split by eye depth first (the default) or by position alone: different cuts
+    // of the same sum, so the two images agree per channel and block. The slot at eye_length 3
+    // has 13.7 VSPs per pass of 8 eye paths. (The trees themselves, and their representatives'
+    // probabilities, are checked in test_gather_tree.cpp: the cut leaves the root's depth split
+    // after a few pairs, so a wrong probability there moves this image too little to fail it.)
+    const Set set = {{"bdlightcuts.samples", "8"}, {"bdlightcuts.error", "0.1"}};
+    auto depth = test::render_twice(kSlot, "bdlightcuts", 16, 5, 16, bdlc(set), 4);
+    auto position = test::render_twice(kSlot, "bdlightcuts", 16, 5, 16,
+                                       bdlc(merge(set, {{"bdlightcuts.vsp_tree", "position"}})), 4);
+    test::expect_agreement(depth, position, 8, "vsp_tree depth against position");
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 1;
+    opt.width = opt.height = 8;
+    opt.set = {{"vpl.count", "100"}, {"bdlightcuts.vsp_tree", "kd"}};
+    try {
+        test::render_text(kSlot, opt);
+        ADD_FAILURE() << "bdlightcuts.vsp_tree=kd accepted";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("bdlightcuts.vsp_tree must be depth or position"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(BdLightcuts, RemainderGivesTheSameImageAtOneAndTwoThreads) {
     // The remainder draws its numbers from the pixel sample's sampler after the eye path's, so a
     // seed gives one image at any thread count, and another seed another.

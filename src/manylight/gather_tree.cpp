@@ -8,20 +8,34 @@
 namespace ml {
 
 int GatherTree::build(const std::vector<Vec3>& p, const std::vector<RGB>& w,
-                      const std::vector<float>& u) {
+                      const std::vector<float>& u, const std::vector<uint8_t>& groups) {
     m_nodes.clear();
     m_order.resize(p.size());
     for (size_t i = 0; i < p.size(); ++i) m_order[i] = int32_t(i);
     if (p.empty()) return -1;
     m_nodes.reserve(2 * p.size() - 1);
-    build_range(p, w, u, 0, int32_t(p.size()));
+    build_range(p, w, u, groups, 0, int32_t(p.size()));
     // Every internal node's split position is a distinct member position in (0, n): the member
     // at position 0 never gives one its bits.
     return m_order[0];
 }
 
+int32_t GatherTree::split_groups(const std::vector<uint8_t>& groups, int32_t begin, int32_t end) {
+    if (groups.empty()) return -1;
+    uint8_t lowest = groups[size_t(m_order[size_t(begin)])];
+    for (int32_t i = begin; i < end; ++i)
+        lowest = std::min(lowest, groups[size_t(m_order[size_t(i)])]);
+    // Stable, so the order (and every split after it) is the same on every platform and run.
+    auto first_other =
+        std::stable_partition(m_order.begin() + begin, m_order.begin() + end,
+                              [&](int32_t a) { return groups[size_t(a)] == lowest; });
+    int32_t mid = int32_t(first_other - m_order.begin());
+    return mid < end ? mid : -1;
+}
+
 int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RGB>& w,
-                                const std::vector<float>& u, int32_t begin, int32_t end) {
+                                const std::vector<float>& u, const std::vector<uint8_t>& groups,
+                                int32_t begin, int32_t end) {
     int32_t id = int32_t(m_nodes.size());
     m_nodes.emplace_back();
     GatherTreeNode node;
@@ -36,18 +50,21 @@ int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RG
         m_nodes[size_t(id)] = node;
         return id;
     }
-    // Split at the median along the longest axis (ties broken by index, so the order is the
-    // same on every platform and run).
-    Vec3 d = node.bounds.diagonal();
-    int axis = (d.x >= d.y && d.x >= d.z) ? 0 : (d.y >= d.z ? 1 : 2);
-    int32_t mid = begin + (end - begin) / 2;
-    std::nth_element(m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
-                     [&](int32_t a, int32_t b) {
-                         float pa = p[size_t(a)][axis], pb = p[size_t(b)][axis];
-                         return pa < pb || (pa == pb && a < b);
-                     });
-    int32_t left = build_range(p, w, u, begin, mid);
-    int32_t right = build_range(p, w, u, mid, end);
+    // Groups apart first; within a group, split at the median along the longest axis (ties
+    // broken by index, so the order is the same on every platform and run).
+    int32_t mid = split_groups(groups, begin, end);
+    if (mid < 0) {
+        Vec3 d = node.bounds.diagonal();
+        int axis = (d.x >= d.y && d.x >= d.z) ? 0 : (d.y >= d.z ? 1 : 2);
+        mid = begin + (end - begin) / 2;
+        std::nth_element(m_order.begin() + begin, m_order.begin() + mid, m_order.begin() + end,
+                         [&](int32_t a, int32_t b) {
+                             float pa = p[size_t(a)][axis], pb = p[size_t(b)][axis];
+                             return pa < pb || (pa == pb && a < b);
+                         });
+    }
+    int32_t left = build_range(p, w, u, groups, begin, mid);
+    int32_t right = build_range(p, w, u, groups, mid, end);
     node.children[0] = left, node.children[1] = right;
     // The children are built, so the order of [begin, end) is final: the uniform of the member
     // at the split position is this node's, and no other node splits there.

@@ -44,10 +44,13 @@ class GatherTree {
 public:
     // Builds over n = p.size() points with weights w (>= 0 per channel) and one uniform number
     // u each (from the sampler): point i's u gives at most one internal node its random bits.
-    // Splits recursively at the median of the longest axis of the positions' box. Returns the
-    // index of the uniform left unused (each of the n - 1 internal nodes takes one of the
-    // others), or -1 when n == 0.
-    int build(const std::vector<Vec3>& p, const std::vector<RGB>& w, const std::vector<float>& u);
+    // Splits recursively at the median of the longest axis of the positions' box. With `groups`
+    // (empty, or one per point), a node whose members belong to several groups splits off its
+    // lowest group first (the left child), so that no node below those splits mixes groups
+    // (bdlightcuts: the VSPs' eye depths). Returns the index of the uniform left unused (each of
+    // the n - 1 internal nodes takes one of the others), or -1 when n == 0.
+    int build(const std::vector<Vec3>& p, const std::vector<RGB>& w, const std::vector<float>& u,
+              const std::vector<uint8_t>& groups = {});
 
     int32_t root() const { return m_nodes.empty() ? -1 : 0; }
     const GatherTreeNode& node(int32_t i) const { return m_nodes[size_t(i)]; }
@@ -59,7 +62,11 @@ public:
 
 private:
     int32_t build_range(const std::vector<Vec3>& p, const std::vector<RGB>& w,
-                        const std::vector<float>& u, int32_t begin, int32_t end);
+                        const std::vector<float>& u, const std::vector<uint8_t>& groups,
+                        int32_t begin, int32_t end);
+    // Where [begin, end) of the order mixes groups: orders its lowest group first and returns
+    // where the others start; else -1.
+    int32_t split_groups(const std::vector<uint8_t>& groups, int32_t begin, int32_t end);
 
     std::vector<GatherTreeNode> m_nodes;
     std::vector<int32_t> m_order;

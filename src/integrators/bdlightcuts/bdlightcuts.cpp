@@ -161,6 +161,7 @@ struct BdLightcutsIntegrator::ThreadState {
     std::vector<Vec3> positions;
     std::vector<RGB> weights;
     std::vector<float> uniforms;
+    std::vector<uint8_t> groups;  // the VSPs' eye depths, with `vsp_tree=depth`
 };
 
 BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
@@ -189,6 +190,11 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
         throw UsageError("bdlightcuts.rest must be path or drop, not '" + rest + "'");
     m_rest_path = rest == "path";
     m_rest_paths = settings.get_int("rest_paths", m_rest_paths);
+    const std::string vsp_tree =
+        settings.get_string("vsp_tree", m_tree_by_depth ? "depth" : "position");
+    if (vsp_tree != "depth" && vsp_tree != "position")
+        throw UsageError("bdlightcuts.vsp_tree must be depth or position, not '" + vsp_tree + "'");
+    m_tree_by_depth = vsp_tree == "depth";
     if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
     const std::string emission = settings.get_string("emission", m_emission_mis ? "mis" : "hit");
     if (emission != "mis" && emission != "hit")
@@ -474,6 +480,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"eye_length", m_eye_length},
                               {"rest", m_rest_path ? "path" : "drop"},
                               {"rest_paths", m_rest_paths},
+                              {"vsp_tree", m_tree_by_depth ? "depth" : "position"},
                               {"emission", m_emission_mis ? "mis" : "hit"},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
@@ -548,13 +555,16 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     // pixel), and 3. the product cut with every pair weighted by its split weight.
     ts.positions.clear();
     ts.weights.clear();
+    ts.groups.clear();
     for (WeightedGatherPoint& p : ts.points) {
         p.a *= inv_weight;
         p.w = p.g.beta * p.a;
         ts.positions.push_back(p.g.si.p);
         ts.weights.push_back(p.w);
+        if (m_tree_by_depth)
+            ts.groups.push_back(uint8_t(std::min(255, ts.vsps[size_t(p.tag)].depth)));
     }
-    int spare = ts.tree.build(ts.positions, ts.weights, ts.uniforms);
+    int spare = ts.tree.build(ts.positions, ts.weights, ts.uniforms, ts.groups);
     RGB C;
     int pairs = 0;
     if (spare >= 0) {

@@ -5,7 +5,8 @@
 // joins of every split cover). Every VSP of the pass is joined to every point light by one
 // multidimensional cut through the product of the VSP tree and the light tree (the product cut
 // of `mdlightcuts`, manylight/product_cut.h), each pair weighted by its split weight
-// (split_weights.h), which replaces VPL clamping. Emission met by the eye paths counts with the
+// (split_weights.h), which replaces VPL clamping. The VSP tree keeps VSPs of different eye depths
+// apart (`bdlightcuts.vsp_tree=depth`). Emission met by the eye paths counts with the
 // weight the earlier splits left (the last split). With the energy weight alone the weights put
 // everything on the first connectable eye vertex: the unbiased `vpl`/`mdlightcuts` estimator
 // without clamping; clamping, diffuse VPLs and the spread exclusion move energy to longer eye
@@ -78,6 +79,11 @@ private:
     int m_eye_length = 3;     // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
     int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
+    // bdlightcuts.vsp_tree: the VSP tree splits the VSPs by eye depth before position (depth,
+    // true), or by position alone. A node of VSPs at several depths (the first VSPs, in the
+    // pixel, with later ones across the scene) has a box as large as the scene and
+    // representatives from both: bench/RESULTS.md, "Issue 17, session 16".
+    bool m_tree_by_depth = true;
     // bdlightcuts.emission: the last split (the emitter met by the eye path) by BSDF samples and
     // light samples weighed by MIS (true), or by BSDF samples alone. With lights.direct=sample the
     // light sample is the emitters' split's own (bench/RESULTS.md, "Issue 17, session 15").
