@@ -468,7 +468,7 @@ TEST(BdLightcuts, RemainderPathTracedAgreesWithPathWhereDroppingItDarkens) {
     // plates' interreflections. With the remainder dropped the image is 3 to 6% dark in every
     // channel, so this agreement check fails for rest=drop (checked below, where it must fail:
     // image z 10.7, channels' z -9 to -12; rest=path: image z 0.8, block z 1.1); path traced
-    // (rest=path), it agrees with `path`. At eye_length 2 (the default is 3, where the third
+    // (rest=path), it agrees with `path`. At eye_length 2 (the default; at 3 the third
     // split takes most of what the slot's clamping leaves, and rest=drop is only 1% dark).
     const Set set = {{"bdlightcuts.samples", "8"}, {"bdlightcuts.eye_length", "2"}};
     auto ref = test::render_twice(kSlot, "path", 256, 5, 16, {}, 4);
@@ -505,7 +505,9 @@ TEST(BdLightcuts, VspTreeByDepthOrByPositionAgree) {
     // has 13.7 VSPs per pass of 8 eye paths. (The trees themselves, and their representatives'
     // probabilities, are checked in test_gather_tree.cpp: the cut leaves the root's depth split
     // after a few pairs, so a wrong probability there moves this image too little to fail it.)
-    const Set set = {{"bdlightcuts.samples", "8"}, {"bdlightcuts.error", "0.1"}};
+    const Set set = {{"bdlightcuts.samples", "8"},
+                     {"bdlightcuts.error", "0.1"},
+                     {"bdlightcuts.eye_length", "3"}};
     auto depth = test::render_twice(kSlot, "bdlightcuts", 16, 5, 16, bdlc(set), 4);
     auto position = test::render_twice(kSlot, "bdlightcuts", 16, 5, 16,
                                        bdlc(merge(set, {{"bdlightcuts.vsp_tree", "position"}})), 4);

@@ -76,7 +76,7 @@ private:
     SplitWeightOptions m_weights;
     int m_samples = 16;
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
-    int m_eye_length = 3;     // bench/RESULTS.md, "Issue 17, session 12: the eye-path length"
+    int m_eye_length = 2;     // bench/RESULTS.md, "Issue 17, session 16" (3 from session 12)
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
     int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
     // bdlightcuts.vsp_tree: the VSP tree splits the VSPs by eye depth before position (depth,
