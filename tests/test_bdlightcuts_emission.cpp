@@ -15,7 +15,7 @@ using Set = std::map<std::string, std::string>;
 namespace {
 
 // A small bright light 0.35 above a diffuse floor and a rough conductor beside it: at that range
-// the clamping weight (C_clamp 0.03) leaves most of the light's direct contribution to the last
+// the clamping weight (C_clamp 0.01) leaves most of the light's direct contribution to the last
 // split, where BSDF samples alone find the small light rarely.
 const char* kCloseLight = R"(
 LookAt 0 1.6 1.6  0 0 0  0 1 0

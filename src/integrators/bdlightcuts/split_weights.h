@@ -25,8 +25,9 @@ namespace ml {
 
 struct SplitWeightOptions {
     bool energy = true, clamp = true, diffuse = true, variance = true;
-    // Defaults: bench/RESULTS.md, "Issue 17, Bidirectional Lightcuts".
-    float c_clamp = 0.03f;  // C_clamp
+    // Defaults: bench/RESULTS.md, "Issue 17, Bidirectional Lightcuts"; C_clamp from "Issue 17,
+    // session 16" (0.03 before).
+    float c_clamp = 0.01f;  // C_clamp
     float c_d = 1.f;        // C_D
     // mu(Theta) = 1 up to spread / 2, falling linearly to 0 at `spread` (radians).
     float spread = 8.f;
