@@ -22,15 +22,17 @@ int GatherTree::build(const std::vector<Vec3>& p, const std::vector<RGB>& w,
 
 int32_t GatherTree::split_groups(const std::vector<uint8_t>& groups, int32_t begin, int32_t end) {
     if (groups.empty()) return -1;
-    uint8_t lowest = groups[size_t(m_order[size_t(begin)])];
-    for (int32_t i = begin; i < end; ++i)
+    uint8_t lowest = groups[size_t(m_order[size_t(begin)])], highest = lowest;
+    for (int32_t i = begin; i < end; ++i) {
         lowest = std::min(lowest, groups[size_t(m_order[size_t(i)])]);
+        highest = std::max(highest, groups[size_t(m_order[size_t(i)])]);
+    }
+    if (lowest == highest) return -1;
     // Stable, so the order (and every split after it) is the same on every platform and run.
     auto first_other =
         std::stable_partition(m_order.begin() + begin, m_order.begin() + end,
                               [&](int32_t a) { return groups[size_t(a)] == lowest; });
-    int32_t mid = int32_t(first_other - m_order.begin());
-    return mid < end ? mid : -1;
+    return int32_t(first_other - m_order.begin());
 }
 
 int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RGB>& w,
