@@ -10,7 +10,6 @@
 #include <sstream>
 
 #include "bidir_test_helpers.h"
-#include "core/error.h"
 #include "core/rng.h"
 #include "integrators/bdlightcuts/split_weights.h"
 #include "render_helpers.h"
@@ -486,22 +485,6 @@ TEST(BdLightcuts, RemainderPathTracedAgreesWithPathWhereDroppingItDarkens) {
     }
 }
 
-TEST(BdLightcuts, RestTakesPathOrDrop) {
-    RenderOptions opt;
-    opt.integrator = "bdlightcuts";
-    opt.spp = 1;
-    opt.width = opt.height = 8;
-    opt.set = {{"vpl.count", "100"}, {"bdlightcuts.rest", "trace"}};
-    try {
-        test::render_text(kSlot, opt);
-        ADD_FAILURE() << "bdlightcuts.rest=trace accepted";
-    } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("bdlightcuts.rest must be path or drop"),
-                  std::string::npos)
-            << e.what();
-    }
-}
-
 TEST(BdLightcuts, VspTreeByDepthOrByPositionAgree) {
     // The VSP tree split by eye depth first (the default) or by position alone: different cuts
     // of the same sum, so the two images agree per channel and block. The slot at eye_length 3
@@ -515,19 +498,6 @@ TEST(BdLightcuts, VspTreeByDepthOrByPositionAgree) {
     auto position = test::render_twice(kSlot, "bdlightcuts", 16, 5, 16,
                                        bdlc(merge(set, {{"bdlightcuts.vsp_tree", "position"}})), 4);
     test::expect_agreement(depth, position, 8, "vsp_tree depth against position");
-    RenderOptions opt;
-    opt.integrator = "bdlightcuts";
-    opt.spp = 1;
-    opt.width = opt.height = 8;
-    opt.set = {{"vpl.count", "100"}, {"bdlightcuts.vsp_tree", "kd"}};
-    try {
-        test::render_text(kSlot, opt);
-        ADD_FAILURE() << "bdlightcuts.vsp_tree=kd accepted";
-    } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("bdlightcuts.vsp_tree must be depth or position"),
-                  std::string::npos)
-            << e.what();
-    }
 }
 
 TEST(BdLightcuts, RemainderGivesTheSameImageAtOneAndTwoThreads) {

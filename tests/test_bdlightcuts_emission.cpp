@@ -174,4 +174,7 @@ TEST(BdLightcutsEmission, SettingsTakeOnlyWhatTheyExpect) {
                        "bdlightcuts.emission must be mis or hit");
     expect_usage_error({{"bdlightcuts.rest_paths", "0"}},
                        "bdlightcuts.rest_paths must be at least 1");
+    expect_usage_error({{"bdlightcuts.rest", "trace"}}, "bdlightcuts.rest must be path or drop");
+    expect_usage_error({{"bdlightcuts.vsp_tree", "kd"}},
+                       "bdlightcuts.vsp_tree must be depth or position");
 }
