@@ -190,12 +190,12 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
         throw UsageError("bdlightcuts.rest must be path or drop, not '" + rest + "'");
     m_rest_path = rest == "path";
     m_rest_paths = settings.get_int("rest_paths", m_rest_paths);
+    if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
     const std::string vsp_tree =
         settings.get_string("vsp_tree", m_tree_by_depth ? "depth" : "position");
     if (vsp_tree != "depth" && vsp_tree != "position")
         throw UsageError("bdlightcuts.vsp_tree must be depth or position, not '" + vsp_tree + "'");
     m_tree_by_depth = vsp_tree == "depth";
-    if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
     const std::string emission = settings.get_string("emission", m_emission_mis ? "mis" : "hit");
     if (emission != "mis" && emission != "hit")
         throw UsageError("bdlightcuts.emission must be mis or hit, not '" + emission + "'");
