@@ -521,3 +521,43 @@ TEST(BdLightcuts, RemainderGivesTheSameImageAtOneAndTwoThreads) {
     opt.seed = 6;
     EXPECT_FALSE(same_image(one.image, test::render_text(kSlot, opt).image));
 }
+
+TEST(BdLightcuts, AdaptiveSamplingAgreesWithEvenPasses) {
+    // After the first pass each pixel takes its neighbours' share of the samples (on the glossy
+    // plane, the light's reflection is far noisier than the wall): the same image per channel
+    // and block as even passes, since a share never looks at the pixel's own samples.
+    const Set set = {{"bdlightcuts.samples", "4"}, {"bdlightcuts.error", "0.1"}};
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 16;
+    opt.width = opt.height = 32;
+    opt.sampler = "independent";
+    opt.seed = 5;
+    opt.set = bdlc(set);
+    RenderOutput one = test::render_text(kGlossyPlane, opt);
+    const auto& stats = one.figures.integrator_stats["bdlightcuts"];
+    EXPECT_TRUE(stats["adaptive"].get<bool>());
+    EXPECT_GT(stats["max_sample_share"].get<double>(), 1.5) << "the shares do not vary";
+    auto adaptive = test::render_twice(kGlossyPlane, "bdlightcuts", 16, 3, 32, bdlc(set), 6);
+    auto even = test::render_twice(kGlossyPlane, "bdlightcuts", 16, 3, 32,
+                                   bdlc(merge(set, {{"bdlightcuts.adaptive", "false"}})), 6);
+    test::expect_agreement(adaptive, even, 8, "adaptive against even passes");
+}
+
+TEST(BdLightcuts, AdaptiveSamplingGivesTheSameImageAtOneAndTwoThreads) {
+    // The shares come from the whole first pass, and each pixel's samples keep their indices
+    // whichever thread takes them.
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.spp = 12;
+    opt.width = opt.height = 16;
+    opt.sampler = "independent";
+    opt.seed = 5;
+    opt.set = bdlc({{"bdlightcuts.samples", "4"}});
+    opt.threads = 1;
+    Image one = test::render_text(kSlot, opt).image;
+    opt.threads = 2;
+    EXPECT_TRUE(same_image(one, test::render_text(kSlot, opt).image));
+    opt.set["bdlightcuts.adaptive"] = "false";
+    EXPECT_FALSE(same_image(one, test::render_text(kSlot, opt).image));
+}

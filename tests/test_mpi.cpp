@@ -165,6 +165,16 @@ TEST_F(Mpi, ManyLightIntegratorsAreBitIdenticalOnTwoRanks) {
     }
 }
 
+// bdlightcuts with adaptive sampling: the shares come from every rank's first pass, summed and
+// broadcast, so each rank's later passes are one process's.
+TEST_F(Mpi, AdaptiveBdLightcutsIsBitIdenticalOnTwoRanks) {
+    Pair p = render_both("bdlightcuts", 8, {{"vpl.count", "300"}, {"bdlightcuts.samples", "2"}});
+    expect_bit_identical(p);
+    expect_split(p, false);
+    EXPECT_GT(p.stats_one.at("bdlightcuts").at("max_sample_share").get<double>(), 1.2)
+        << "the shares do not vary";
+}
+
 // Splat integrators: light paths split by the tiles that start them (lighttracer), Markov
 // chains split between the ranks (pssmlt); the splats' sums of the ranks are added as floats
 // on rank 0, in another order than one process's doubles: equal within float rounding.

@@ -309,6 +309,49 @@ TEST(CutCap, RenderSamplePassesScalesTheLastPassDown) {
     }
 }
 
+// render_sample_passes with `after_first` (adaptive sampling): the whole first pass runs before
+// it, once, and every later pass after it, whichever way the rounds group the passes.
+TEST(CutCap, AfterFirstRunsBetweenTheFirstPassAndTheOthers) {
+    Scene scene(parse_scene_string(default_scene_text(), "."));
+    const int w = 16, h = 16;
+    PerspectiveCamera camera(ParameterList{}, AnimatedTransform(Transform()), w, h);
+    auto filter = create_filter("box", ParameterList{}, FileLoc{});
+    auto sampler = create_sampler("independent", 1, 1);
+    for (double limit : {0.0, 0.5}) {
+        SCOPED_TRACE(limit);
+        Film film(w, h);
+        const int spp = limit > 0 ? 1 << 20 : 40;
+        RenderContext ctx{scene, camera, *filter, film, *sampler, spp, limit};
+        std::atomic<int> first_pass{0}, early{0}, later{0}, after{0};
+        SamplePasses done = render_sample_passes(
+            ctx, 8, 0.0,
+            [&](Point2i, int first, int samples) {
+                if (limit > 0) std::this_thread::sleep_for(std::chrono::microseconds(20 * samples));
+                if (first == 0) {
+                    ++first_pass;
+                    if (after.load() > 0) ++early;  // a first pass after the hook
+                } else {
+                    ++later;
+                    if (after.load() == 0) ++early;  // a later pass before it
+                }
+            },
+            {},
+            [&] {
+                ++after;
+                EXPECT_EQ(first_pass.load(), w * h) << "the first pass is not whole";
+            });
+        EXPECT_EQ(after.load(), 1);
+        EXPECT_EQ(early.load(), 0);
+        EXPECT_EQ(first_pass.load(), w * h);
+        EXPECT_GE(done.whole, 2);
+        EXPECT_GE(later.load(), int(done.whole - 1) * w * h);
+        if (limit == 0) {
+            EXPECT_EQ(done.whole, 5);
+            EXPECT_EQ(later.load(), 4 * w * h);
+        }
+    }
+}
+
 TEST(CutCap, TheProbeVisitsAGridAtBothCaps) {
     std::atomic<int> low{0}, full{0};
     CutProbe probe = probe_cuts(320, 180, 64, 1000, 1, 1e6, [&](Point2i p, int cap, int samples) {

@@ -138,13 +138,26 @@ int last_pass_cap(const LastPass& plan, double mean_size, int cap) {
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<void(Point2i pixel, int first, int samples)>& fn,
-    const std::function<void(const LastPass& plan)>& last) {
+    const std::function<void(const LastPass& plan)>& last,
+    const std::function<void()>& after_first) {
     const int64_t n = pass_samples, passes = (int64_t(ctx.spp) + n - 1) / n;
     const double start = ctx.elapsed();
     SamplePasses out;
-    out.whole = render_pixels(ctx, passes, [&](Point2i pixel, int64_t p0, int64_t p1) {
-        for (int64_t p = p0; p < p1; ++p) fn(pixel, int(p * n), int(n));
-    });
+    // Passes [from, from + count), each pixel taking its passes in order.
+    auto run = [&](int64_t from, int64_t count) {
+        return render_pixels(ctx, count, [&](Point2i pixel, int64_t p0, int64_t p1) {
+            for (int64_t p = from + p0; p < from + p1; ++p) fn(pixel, int(p * n), int(n));
+        });
+    };
+    if (after_first && passes > 1) {
+        out.whole = run(0, 1);
+        if (out.whole == 1) {
+            after_first();
+            out.whole += run(1, passes - 1);
+        }
+    } else {
+        out.whole = run(0, passes);
+    }
     out.samples = out.whole * n;
     if (out.whole > 0) out.pass_seconds = (ctx.elapsed() - start) / double(out.whole);
     // A round cut short by the limit leaves its samples in some tiles: none is taken again.

@@ -104,11 +104,14 @@ struct SamplePasses {
     double pass_seconds = 0;    // the whole passes' mean wall time
 };
 // Before the last pass, last(plan) tells the integrator its shape (its cuts' share of the mean
-// size: the integrator sets the cap its fn uses from its own figures of the whole passes).
+// size: the integrator sets the cap its fn uses from its own figures of the whole passes). With
+// `after_first`, the first pass runs over the whole film (on every rank) before any other
+// starts, and after_first() runs between them (adaptive sampling from the first pass).
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<void(Point2i pixel, int first, int samples)>& fn,
-    const std::function<void(const LastPass& plan)>& last = {});
+    const std::function<void(const LastPass& plan)>& last = {},
+    const std::function<void()>& after_first = {});
 
 // The share of the time left that a time-limited render plans its first pass to take.
 constexpr double kFirstPassTimeShare = 0.75;

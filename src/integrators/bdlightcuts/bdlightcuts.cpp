@@ -8,6 +8,7 @@
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
 #include "manylight/pilot.h"
+#include "manylight/sample_shares.h"
 #include "materials/material.h"
 #include "render/render_loop.h"
 #include "transport/direct_lighting.h"
@@ -203,6 +204,7 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_floor = settings.get_float("floor", m_floor);
+    m_adaptive = settings.get_bool("adaptive", m_adaptive);
     m_weights.energy = settings.get_bool("energy", m_weights.energy);
     m_weights.clamp = settings.get_bool("clamp", m_weights.clamp);
     m_weights.diffuse = settings.get_bool("diffuse", m_weights.diffuse);
@@ -448,24 +450,40 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_pass_samples = pass_samples(m_samples, cap_plan);
     // The cap of the pass being shaded: pass_cap, then the last pass's (manylight/pilot.h).
     int cap = pass_cap;
-    const SamplePasses done_passes = render_sample_passes(
-        ctx, m_pass_samples, cap_plan.fixed_share,
-        [&](Point2i pixel, int first, int samples) {
-            PassEstimate e = estimate_pass(ctx, states.local(), pixel, first, cap, samples);
-            if (e.weight_sum == 0) return;
-            ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
-            m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
-            m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
-            m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
-            m_rests.fetch_add(uint64_t(e.rests), std::memory_order_relaxed);
-            if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
-        },
-        [&](const LastPass& last) {
-            cap = last_pass_cap(
-                last,
-                double(m_pair_sum.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load())),
-                pass_cap);
-        });
+    // One pixel pass, into the film and the figures.
+    auto shade = [&](Point2i pixel, int first, int samples) {
+        PassEstimate e = estimate_pass(ctx, states.local(), pixel, first, cap, samples);
+        if (e.weight_sum == 0) return e;
+        ctx.film.add_sample(pixel, e.value, float(e.weight_sum));
+        m_pair_sum.fetch_add(uint64_t(e.pairs), std::memory_order_relaxed);
+        m_pixel_passes.fetch_add(1, std::memory_order_relaxed);
+        m_vsps.fetch_add(e.vsps, std::memory_order_relaxed);
+        m_rests.fetch_add(uint64_t(e.rests), std::memory_order_relaxed);
+        if (e.pairs >= pass_cap) m_capped.fetch_add(1, std::memory_order_relaxed);
+        return e;
+    };
+    auto last = [&](const LastPass& plan) {
+        cap = last_pass_cap(
+            plan, double(m_pair_sum.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load())),
+            pass_cap);
+    };
+    // Adaptive sampling: the later passes' samples by each pixel's share (sample_shares.h), from
+    // the first pass's variance of the eye paths' part; a high share as several passes, whose
+    // cuts' noise then averages too (bench/RESULTS.md, "Issue 17, session 17").
+    float max_share = 1;
+    const SamplePasses done_passes =
+        m_adaptive
+            ? render_adaptive_passes(
+                  ctx, m_pass_samples, cap_plan.fixed_share,
+                  [&](Point2i pixel, int first, int samples) {
+                      PassEstimate e = shade(pixel, first, samples);
+                      return relative_variance(e.known_variance, e.value.luminance());
+                  },
+                  last, &max_share)
+            : render_sample_passes(
+                  ctx, m_pass_samples, cap_plan.fixed_share,
+                  [&](Point2i pixel, int first, int samples) { shade(pixel, first, samples); },
+                  last);
     const int done = int(done_passes.whole);
 
     RenderResult result;
@@ -486,6 +504,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"max_cut", m_max_cut},
                               {"time_cap", cut_cap_json(cap_plan)},
                               {"floor", m_floor},
+                              {"adaptive", m_adaptive},
+                              {"max_sample_share", max_share},
                               {"floor_luminance", m_floor_luminance},
                               {"weights",
                                {{"energy", m_weights.energy},
@@ -524,7 +544,8 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     ts.uniforms.clear();
     // 1. The pass's eye paths: their VSPs, and the emission they meet, weighted by filter.
     RGB known;
-    double weight_sum = 0;
+    // For the variance of the known part: sums of w^2, w^2 l and w^2 l^2 (l: a sample's luminance).
+    double weight_sum = 0, w2 = 0, w2l = 0, w2l2 = 0;
     int rests = 0;
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
@@ -542,6 +563,8 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
         }
         known += L * weight;
         weight_sum += weight;
+        const double l = L.luminance(), ww = double(weight) * double(weight);
+        w2 += ww, w2l += ww * l, w2l2 += ww * l * l;
     }
     PassEstimate out;
     if (weight_sum == 0) {
@@ -550,6 +573,9 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     }
     float inv_weight = float(1.0 / weight_sum);
     known *= inv_weight;
+    // sum_s w_s^2 (l_s - m)^2 / W^2, the variance of the weighted mean m.
+    const double m = known.luminance(), inv2 = 1.0 / (weight_sum * weight_sum);
+    out.known_variance = float(std::max(0.0, (w2l2 - 2 * m * w2l + m * m * w2) * inv2));
 
     // 2. The VSP tree (the gather tree over the pass's VSPs, weighted by their share of the
     // pixel), and 3. the product cut with every pair weighted by its split weight.

@@ -61,6 +61,10 @@ private:
         int pairs = 0;
         size_t vsps = 0;
         int rests = 0;  // eye paths continued by the path-traced remainder
+        // The variance of the eye paths' part of the value (its luminance: emission, light
+        // samples, remainder paths), from the spread of the pass's samples. The cut's part is
+        // left out: its noise is the cut's (one per pass), which more samples do not lower.
+        float known_variance = 0;
     };
     // The pass of `pixel` over its samples first_sample to first_sample + samples - 1 (samples 0:
     // the pass's m_pass_samples), with cuts of at most max_cut pairs.
@@ -97,6 +101,10 @@ private:
     int m_max_cut = 300;
     float m_floor = 1.0f;
     float m_floor_luminance = 0;
+    // bdlightcuts.adaptive: after the first pass, each pixel takes its share of the later passes'
+    // samples (manylight/sample_shares.h), a high share as several passes: bench/RESULTS.md,
+    // "Issue 17, session 17".
+    bool m_adaptive = true;
     PointLightSet m_set;
     LightTree m_tree;
     double m_tree_seconds = 0;
