@@ -500,17 +500,27 @@ TEST(BdLightcuts, VspTreeByDepthOrByPositionAgree) {
     test::expect_agreement(depth, position, 8, "vsp_tree depth against position");
 }
 
-TEST(BdLightcuts, RemainderGivesTheSameImageAtOneAndTwoThreads) {
-    // The remainder draws its numbers from the pixel sample's sampler after the eye path's, so a
-    // seed gives one image at any thread count, and another seed another.
+namespace {
+
+// The slot at 16x16 with `spp` samples and bdlc(set), seed 5, one thread.
+RenderOptions slot_options(int spp, const Set& set) {
     RenderOptions opt;
     opt.integrator = "bdlightcuts";
-    opt.spp = 8;
+    opt.spp = spp;
     opt.width = opt.height = 16;
     opt.sampler = "independent";
     opt.seed = 5;
-    opt.set = bdlc({});
+    opt.set = bdlc(set);
     opt.threads = 1;
+    return opt;
+}
+
+}  // namespace
+
+TEST(BdLightcuts, RemainderGivesTheSameImageAtOneAndTwoThreads) {
+    // The remainder draws its numbers from the pixel sample's sampler after the eye path's, so a
+    // seed gives one image at any thread count, and another seed another.
+    RenderOptions opt = slot_options(8, {});
     RenderOutput one = test::render_text(kSlot, opt);
     EXPECT_GT(
         one.figures.integrator_stats["bdlightcuts"]["rest_paths_per_pixel_pass"].get<double>(), 0.5)
@@ -547,14 +557,7 @@ TEST(BdLightcuts, AdaptiveSamplingAgreesWithEvenPasses) {
 TEST(BdLightcuts, AdaptiveSamplingGivesTheSameImageAtOneAndTwoThreads) {
     // The shares come from the whole first pass, and each pixel's samples keep their indices
     // whichever thread takes them.
-    RenderOptions opt;
-    opt.integrator = "bdlightcuts";
-    opt.spp = 12;
-    opt.width = opt.height = 16;
-    opt.sampler = "independent";
-    opt.seed = 5;
-    opt.set = bdlc({{"bdlightcuts.samples", "4"}});
-    opt.threads = 1;
+    RenderOptions opt = slot_options(12, {{"bdlightcuts.samples", "4"}});
     Image one = test::render_text(kSlot, opt).image;
     opt.threads = 2;
     EXPECT_TRUE(same_image(one, test::render_text(kSlot, opt).image));

@@ -18,6 +18,24 @@
 
 namespace ml {
 
+namespace {
+
+// What render_sample_passes needs around a stand-in pass: the default scene, a 16x16 pinhole
+// camera and film, a box filter and an independent sampler.
+struct PassStage {
+    static constexpr int w = 16, h = 16;
+    Scene scene{parse_scene_string(default_scene_text(), ".")};
+    PerspectiveCamera camera{ParameterList{}, AnimatedTransform(Transform()), w, h};
+    std::unique_ptr<Filter> filter = create_filter("box", ParameterList{}, FileLoc{});
+    std::unique_ptr<Sampler> sampler = create_sampler("independent", 1, 1);
+    Film film{w, h};
+    RenderContext context(int spp, double limit) {
+        return RenderContext{scene, camera, *filter, film, *sampler, spp, limit};
+    }
+};
+
+}  // namespace
+
 TEST(Pilot, MeanOfALinearImageIsItsMean) {
     // Luminance of RGB(v) is v: a ramp in x and y has mean (w - 1) / 2 + (h - 1) / 2 over the
     // film, and the grid's cells' middles sample it evenly (within a cell's width).
@@ -181,14 +199,10 @@ TEST(CutCap, TheLastPassFillsTheTimeLeft) {
 // whole passes of 64 samples at consecutive sample indices, then, where the last whole pass left
 // room, one pass of fewer samples after them; every pixel alike, and the render ends in time.
 TEST(CutCap, RenderSamplePassesEndsWithAPassThatFillsTheTime) {
-    Scene scene(parse_scene_string(default_scene_text(), "."));
-    const int w = 16, h = 16;
-    PerspectiveCamera camera(ParameterList{}, AnimatedTransform(Transform()), w, h);
-    auto filter = create_filter("box", ParameterList{}, FileLoc{});
-    auto sampler = create_sampler("independent", 1, 1);
-    Film film(w, h);
+    PassStage stage;
+    const int w = PassStage::w, h = PassStage::h;
     const double limit = 1.0;
-    RenderContext ctx{scene, camera, *filter, film, *sampler, 1 << 20, limit};
+    RenderContext ctx = stage.context(1 << 20, limit);
     // Per pixel its passes (first sample, samples), and when the last whole pass ended.
     std::vector<std::vector<std::pair<int, int>>> calls(w * h);
     std::atomic<int64_t> whole_end_us{0};
@@ -265,14 +279,9 @@ TEST(CutCap, ALastPassScaledDownWhereTheCutsAloneOverrun) {
 // render_sample_passes where a pass's cost is almost all fixed (the cuts): the last pass is
 // scaled down as a whole, and the integrator hears of it before it runs.
 TEST(CutCap, RenderSamplePassesScalesTheLastPassDown) {
-    Scene scene(parse_scene_string(default_scene_text(), "."));
-    const int w = 16, h = 16;
-    PerspectiveCamera camera(ParameterList{}, AnimatedTransform(Transform()), w, h);
-    auto filter = create_filter("box", ParameterList{}, FileLoc{});
-    auto sampler = create_sampler("independent", 1, 1);
-    Film film(w, h);
+    PassStage stage;
     const double limit = 1.0;
-    RenderContext ctx{scene, camera, *filter, film, *sampler, 1 << 20, limit};
+    RenderContext ctx = stage.context(1 << 20, limit);
     const int n = 64;
     std::atomic<int> heard{0}, last_calls{0};
     LastPass told;
@@ -312,16 +321,11 @@ TEST(CutCap, RenderSamplePassesScalesTheLastPassDown) {
 // render_sample_passes with `after_first` (adaptive sampling): the whole first pass runs before
 // it, once, and every later pass after it, whichever way the rounds group the passes.
 TEST(CutCap, AfterFirstRunsBetweenTheFirstPassAndTheOthers) {
-    Scene scene(parse_scene_string(default_scene_text(), "."));
-    const int w = 16, h = 16;
-    PerspectiveCamera camera(ParameterList{}, AnimatedTransform(Transform()), w, h);
-    auto filter = create_filter("box", ParameterList{}, FileLoc{});
-    auto sampler = create_sampler("independent", 1, 1);
+    const int w = PassStage::w, h = PassStage::h;
     for (double limit : {0.0, 0.5}) {
         SCOPED_TRACE(limit);
-        Film film(w, h);
-        const int spp = limit > 0 ? 1 << 20 : 40;
-        RenderContext ctx{scene, camera, *filter, film, *sampler, spp, limit};
+        PassStage stage;
+        RenderContext ctx = stage.context(limit > 0 ? 1 << 20 : 40, limit);
         std::atomic<int> first_pass{0}, early{0}, later{0}, after{0};
         SamplePasses done = render_sample_passes(
             ctx, 8, 0.0,
