@@ -31,10 +31,11 @@ bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, R
 }  // namespace detail
 
 bool point_light_contribution(const PointLightSet& set, const PointLight& pl, const GatherPoint& g,
-                              RGB* value, Ray* shadow) {
+                              RGB* value, Ray* shadow, PointLightTerms* terms) {
     const SurfaceInteraction& si = g.si;
     Vec3 wi;
     RGB I;
+    float inv_d2 = 1;
     if (pl.kind == PointLightKind::Directional) {
         wi = -pl.n;
         I = pl.intensity;
@@ -46,11 +47,14 @@ bool point_light_contribution(const PointLightSet& set, const PointLight& pl, co
         wi = d / std::sqrt(d2);
         I = point_light_intensity(set, pl, -wi);
         if (I.is_black()) return false;
+        inv_d2 = 1 / d2;
         I = I / d2;
     }
-    RGB f = g.bsdf.eval(si.wo, wi) * abs_dot(wi, si.ns);
+    RGB f_bsdf = g.bsdf.eval(si.wo, wi);
+    RGB f = f_bsdf * abs_dot(wi, si.ns);
     if (f.is_black()) return false;
     *value = g.beta * f * I;
+    if (terms) *terms = {wi, inv_d2, f_bsdf};
     // The shadow ray last: the lights the BSDF turns away need none (a fifth of the pairs of an
     // igi frame of the kitchen).
     if (pl.kind != PointLightKind::Directional)

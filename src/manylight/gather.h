@@ -32,10 +32,19 @@ template <typename Shade>
 RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
                  int max_depth, Shade&& shade);
 
+// What point_light_contribution computes on the way, for a caller that weighs the pair by the
+// same terms (bdlightcuts' split weights) without evaluating the BSDF again.
+struct PointLightTerms {
+    Vec3 wi;           // unit, from the gather point towards the light
+    float inv_d2 = 1;  // 1 / distance squared (directional: 1)
+    RGB f;             // the gather point's BSDF value f(wo, wi), without the cosine
+};
+
 // What `pl` gives at the gather point without visibility: f(wo, wi) |cos| I / d^2 (directional:
-// f |cos| E), and the shadow ray that decides visibility. False when it gives nothing.
+// f |cos| E), and the shadow ray that decides visibility. False when it gives nothing; else
+// `terms`, where given, receives the terms above.
 bool point_light_contribution(const PointLightSet& set, const PointLight& pl, const GatherPoint& g,
-                              RGB* value, Ray* shadow);
+                              RGB* value, Ray* shadow, PointLightTerms* terms = nullptr);
 
 // Implementation of gather_along: the next hit along a delta chain, in gather.cpp.
 namespace detail {

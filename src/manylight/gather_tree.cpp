@@ -15,6 +15,8 @@ int GatherTree::build(const std::vector<Vec3>& p, const std::vector<RGB>& w,
     if (p.empty()) return -1;
     m_nodes.reserve(2 * p.size() - 1);
     build_range(p, w, u, groups, 0, int32_t(p.size()));
+    m_position.resize(p.size());
+    for (size_t i = 0; i < p.size(); ++i) m_position[size_t(m_order[i])] = int32_t(i);
     // Every internal node's split position is a distinct member position in (0, n): the member
     // at position 0 never gives one its bits.
     return m_order[0];
@@ -80,11 +82,14 @@ int32_t GatherTree::build_range(const std::vector<Vec3>& p, const std::vector<RG
 }
 
 int32_t GatherTree::rep(int32_t i, uint32_t key) const {
+    // The key is hashed once; each node's uniform is one mix of its bits with that (a bijection
+    // of distinct inputs: the bits fill the high half, where the key's hash differs between keys).
+    uint64_t key_hash = Rng::mix_bits(uint64_t(key) + 0x9e3779b97f4a7c15ULL);
     for (;;) {
         const GatherTreeNode& n = m_nodes[size_t(i)];
         if (n.is_leaf()) return n.point;
         // A uniform of the node's bits and the key: 24 bits of the hash.
-        float v = float(hash_ints(n.bits, key) >> 40) * 0x1p-24f;
+        float v = float(Rng::mix_bits((uint64_t(n.bits) << 32) ^ key_hash) >> 40) * 0x1p-24f;
         i = n.children[v < n.left_probability ? 0 : 1];
     }
 }

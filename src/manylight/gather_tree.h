@@ -59,6 +59,12 @@ public:
     const std::vector<int32_t>& members() const { return m_order; }
     // The representative gather point of node i for `key` (see above).
     int32_t rep(int32_t i, uint32_t key) const;
+    // Whether gather point `point` (an input index) is a member of node i: O(1). A child that
+    // holds its parent's representative for a key has it as its own for that key, no walk.
+    bool holds(int32_t i, int32_t point) const {
+        int32_t at = m_position[size_t(point)];
+        return at >= m_nodes[size_t(i)].begin && at < m_nodes[size_t(i)].end;
+    }
 
 private:
     int32_t build_range(const std::vector<Vec3>& p, const std::vector<RGB>& w,
@@ -70,6 +76,7 @@ private:
 
     std::vector<GatherTreeNode> m_nodes;
     std::vector<int32_t> m_order;
+    std::vector<int32_t> m_position;  // inverse of m_order: where each input index sits in it
 };
 
 }  // namespace ml

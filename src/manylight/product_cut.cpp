@@ -83,16 +83,57 @@ int nearest_direction_bin(const Vec3& w) {
     return best;
 }
 
+// cos(kDirectionBinAngle - 2e-4 rad): a bin holds a cone only with this margin, which covers the
+// rounding of the cosines and sines below.
+constexpr float kDirectionBinCosPadded = 0.7072482f;
+
+// The fixed cone that holds every direction from x towards the grown light node (the cone
+// node_direction_cone gives), or -1 when none does. With the cone's half-angle c and the angle a
+// between its axis and the nearest bin's, the bin holds it when a + c is within the bin's
+// half-angle: cos(a + c) = cos a cos c - sin a sin c, with no inverse trigonometry.
+int enclosing_direction_bin(const LightTreeNode& grown, const Vec3& x) {
+    Vec3 axis;
+    float cos_c, sin_c;
+    if (grown.kind == PointLightKind::Directional) {
+        if (grown.cone.is_empty() || !(grown.cone.cos_theta > 0)) return -1;
+        axis = -grown.cone.axis;
+        cos_c = grown.cone.cos_theta;
+        sin_c = std::sqrt(std::max(0.f, 1 - cos_c * cos_c));
+    } else {
+        if (grown.bounds.empty()) return -1;
+        Vec3 c;
+        float r;
+        grown.bounds.bounding_sphere(&c, &r);
+        r = r * (1 + 1e-6f) + 1e-30f;
+        float d2 = distance_squared(x, c);
+        // Within sqrt(2) r of the centre the half-angle is at least a bin's.
+        if (!(d2 > 2 * r * r)) return -1;
+        float d = std::sqrt(d2);
+        axis = (c - x) / d;
+        sin_c = r / d;
+        cos_c = std::sqrt(std::max(0.f, 1 - sin_c * sin_c));
+    }
+    int bin = nearest_direction_bin(axis);
+    const Vec3& b = direction_bins()[size_t(bin)];
+    float cos_a = dot(axis, b), sin_a = length(cross(axis, b));
+    // Both angles are below a right angle here (a <= 27.6 deg, c < 45 deg).
+    return cos_a * cos_c - sin_a * sin_c >= kDirectionBinCosPadded ? bin : -1;
+}
+
 }  // namespace
 
 RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
     const PointLight& pl = m_set.lights[size_t(light)];
-    float w = 1;
-    if (m_pair_weight) {
-        w = m_pair_weight->weight(p, pl);
-        if (!(w > 0)) return RGB();
-    }
-    return visible_point_light(m_scene, m_set, m_settings, pl, p.g) * w;
+    if (!m_pair_weight) return visible_point_light(m_scene, m_set, m_settings, pl, p.g);
+    // The weight from the contribution's own terms (one BSDF evaluation), the shadow ray last.
+    RGB c;
+    Ray ray;
+    PointLightTerms terms;
+    if (!point_light_contribution(m_set, pl, p.g, &c, &ray, &terms)) return RGB();
+    float w = m_pair_weight->weight(p, pl, terms);
+    if (!(w > 0)) return RGB();
+    c = m_settings.clamped(c, pl.is_vpl);
+    return m_scene.occluded(ray) ? RGB() : c * w;
 }
 
 RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
@@ -144,14 +185,10 @@ RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points, cons
     float gb = geometric_bound({grown, m_tree.falloff(light)}, x);
     if (gb == 0) return b;
     RGB m = m_material_strength[size_t(gather)];
-    DirectionCone cone = node_direction_cone(grown, x);
-    if (!cone.is_entire_sphere() && !cone.is_empty()) {
-        int bin = nearest_direction_bin(cone.axis);
-        if (angle_between(cone.axis, direction_bins()[bin]) + cone_angle(cone) <=
-            kDirectionBinAngle) {
-            const RGB& mb = bin_strength(points, gtree, gather, bin);
-            for (int c = 0; c < 3; ++c) m[c] = std::min(m[c], mb[c]);
-        }
+    int bin = enclosing_direction_bin(grown, x);
+    if (bin >= 0) {
+        const RGB& mb = bin_strength(points, gtree, gather, bin);
+        for (int c = 0; c < 3; ++c) m[c] = std::min(m[c], mb[c]);
     }
     for (int c = 0; c < 3; ++c)
         if (m[c] != 0 && L.bound_intensity[c] != 0) b[c] = m[c] * gb * L.bound_intensity[c];
@@ -249,7 +286,8 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
             int32_t child = children[size_t(c)];
             ProductPair q;
             if (gather_side) {
-                int32_t r = gtree.rep(child, uint32_t(p.lrep));
+                int32_t r =
+                    gtree.holds(child, p.grep) ? p.grep : gtree.rep(child, uint32_t(p.lrep));
                 RGB v = r == p.grep ? p.rep_value : value(points[size_t(r)], p.lrep);
                 q = make_pair(points, gtree, child, p.light, r, p.lrep, v);
             } else {

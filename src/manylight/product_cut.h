@@ -64,7 +64,9 @@ struct WeightedGatherPoint {
 class PairWeight {
 public:
     virtual ~PairWeight() = default;
-    virtual float weight(const WeightedGatherPoint& p, const PointLight& pl) const = 0;
+    // `t`: the pair's terms, as point_light_contribution gave them (the pair gives light).
+    virtual float weight(const WeightedGatherPoint& p, const PointLight& pl,
+                         const PointLightTerms& t) const = 0;
     // A bound, channel by channel, of the weighted sum of a gather node's points with a light
     // node's lights, which the cut takes where it is below its own (+infinity: none).
     virtual RGB cluster_bound(const GatherTreeNode& g, int32_t light_node) const {

@@ -32,14 +32,15 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis, float light_pmf,
-                    const std::function<float(const LightLiSample&)>& weight) {
+                    const LightSampleWeight& weight) {
     LightSampleContext ctx = light_context(si);
     ctx.allow_incomplete_pdf = mis;
     auto ls = light.sample_li(ctx, u_light);
     if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return RGB();
-    RGB f = bsdf.eval(si.wo, ls->wi) * abs_dot(ls->wi, si.ns);
+    const RGB f_bsdf = bsdf.eval(si.wo, ls->wi);
+    RGB f = f_bsdf * abs_dot(ls->wi, si.ns);
     if (f.is_black()) return RGB();
-    const float sample_weight = weight ? weight(*ls) : 1.f;
+    const float sample_weight = weight ? weight(*ls, f_bsdf) : 1.f;
     if (sample_weight == 0.f || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
     RGB Ld;
     if (!mis || is_delta_light(light.type())) {

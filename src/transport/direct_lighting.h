@@ -28,10 +28,12 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 // that the caller chose this light: the light strategy's density is pmf * pdf, as in the weight
 // emission_along gives the BSDF strategy. The result is not divided by it (the caller does).
 // `weight`, if given, multiplies the result by a weight of the light sample (its direction, the
-// point on the light and its normal), taken before the shadow ray: where it is 0, no ray is
-// traced (bdlightcuts' split weights, which are 0 for most directions at some points).
+// point on the light and its normal; f is bsdf.eval(si.wo, ls.wi), without the cosine), taken
+// before the shadow ray: where it is 0, no ray is traced (bdlightcuts' split weights, which are
+// 0 for most directions at some points).
+using LightSampleWeight = std::function<float(const LightLiSample& ls, const RGB& f)>;
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis = true, float light_pmf = 1.f,
-                    const std::function<float(const LightLiSample&)>& weight = {});
+                    const LightSampleWeight& weight = {});
 
 }  // namespace ml

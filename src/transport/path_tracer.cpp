@@ -27,10 +27,10 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
         float u_select = sampler.get_1d();
         Vec2 u_light = sampler.get_2d();
         if (bsdf.has_nonspecular()) {
-            std::function<float(const LightLiSample&)> ls_weight;
+            LightSampleWeight ls_weight;
             if (weight)
-                ls_weight = [&](const LightLiSample& ls) {
-                    return weight->weight(bsdf, si.wo, ls.wi, false);
+                ls_weight = [&](const LightLiSample& ls, const RGB& f) {
+                    return weight->weight(bsdf, si.wo, ls.wi, false, &f);
                 };
             if (options.all_lights) {
                 const auto& lights = scene.lights();
@@ -51,7 +51,7 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
         beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
-        if (weight) path_weight = weight->weight(bsdf, si.wo, bs->wi, bs->is_specular());
+        if (weight) path_weight = weight->weight(bsdf, si.wo, bs->wi, bs->is_specular(), nullptr);
         if (path_weight == 0.f) break;
         const bool specular_bounce = bs->is_specular();
         const float prev_pdf = bs->pdf_solid_angle;

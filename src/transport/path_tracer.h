@@ -31,7 +31,9 @@ public:
     virtual ~FirstBounceWeight() = default;
     // The weight of the paths leaving the first vertex, with BSDF `bsdf`, along wi (towards
     // the light sample or the BSDF sample; `specular`: a delta lobe's sample), wo the way back.
-    virtual float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular) const = 0;
+    // `f`: bsdf.eval(wo, wi) where the caller has it, else null.
+    virtual float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular,
+                         const RGB* f) const = 0;
     // True where the weight is 0 for every wi: the path is not continued at all.
     virtual bool vanishes(const Bsdf& bsdf, const Vec3& wo) const = 0;
 };

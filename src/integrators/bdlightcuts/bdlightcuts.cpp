@@ -73,22 +73,14 @@ public:
         : m_set(set), m_o(o), m_max_depth(max_depth) {}
     const std::vector<BdLightcutsIntegrator::Vsp>* vsps = nullptr;
 
-    float weight(const WeightedGatherPoint& p, const PointLight& pl) const override {
+    float weight(const WeightedGatherPoint& p, const PointLight& pl,
+                 const PointLightTerms& t) const override {
         const BdLightcutsIntegrator::Vsp& v = (*vsps)[size_t(p.tag)];
         if (pl.depth > 0 && v.depth + int(pl.depth) > m_max_depth) return 0.f;
         const SurfaceInteraction& si = p.g.si;
-        Vec3 wi;
-        float inv_d2 = 1.f;
-        if (pl.kind == PointLightKind::Directional) {
-            wi = -pl.n;
-        } else {
-            Vec3 d = pl.p - si.p;
-            float d2 = length_squared(d);
-            if (!(d2 > 0)) return 0.f;
-            wi = d / std::sqrt(d2);
-            inv_d2 = 1.f / d2;
-        }
-        float f = p.g.bsdf.eval(si.wo, wi).max_component();
+        const Vec3& wi = t.wi;
+        const float inv_d2 = t.inv_d2;
+        float f = t.f.max_component();
         if (!(f > 0)) return 0.f;
         // w_{j-1} needs D_j, the VSP's lobe between the eye and this light; M_j has the
         // connection's cosine (point_light_contribution's).
@@ -128,9 +120,10 @@ public:
     RemainderWeight(const SplitWeightOptions& o, float prefix, float pending_mt, float pending_mu)
         : m_o(o), m_prefix(prefix), m_pending_mt(pending_mt), m_pending_mu(pending_mu) {}
 
-    float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular) const override {
+    float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular,
+                 const RGB* f) const override {
         if (specular) return remainder_weight(m_o, m_prefix, -1.f, 0.f, m_pending_mu);
-        float d = bsdf.eval(wo, wi).max_component() * abs_dot(wo, bsdf.frame().n);
+        float d = (f ? *f : bsdf.eval(wo, wi)).max_component() * abs_dot(wo, bsdf.frame().n);
         return remainder_weight(m_o, m_prefix, m_pending_mt, d, m_pending_mu);
     }
 
@@ -301,8 +294,10 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         }
         // Split j to an emitter by a light sample (`lights.direct=sample`). The weight is split
         // j's for that point (SplitWeighting::weight's for an emitter's point).
-        auto split_to_light = [&](const Light& light, const LightLiSample& ls, float* pre_j) {
-            float f = bsdf.eval(si.wo, ls.wi).max_component();
+        // f_ls: bsdf.eval(si.wo, ls.wi), as estimate_direct has it.
+        auto split_to_light = [&](const Light& light, const LightLiSample& ls, const RGB& f_ls,
+                                  float* pre_j) {
+            float f = f_ls.max_component();
             float pre = prefix;
             if (pending) {
                 float d = f * abs_dot(si.wo, n);
@@ -318,8 +313,8 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         };
         // The last split's weight for the emitter met from x_j along wi (x_{j+1} on it), w_j
         // being split j's for that point and pre the weights before it.
-        auto last_split = [&](const LightLiSample& ls, float pre, float w_j) {
-            float m = bsdf.eval(si.wo, ls.wi).max_component() * abs_dot(ls.wi, si.ns);
+        auto last_split = [&](const LightLiSample& ls, const RGB& f_ls, float pre, float w_j) {
+            float m = f_ls.max_component() * abs_dot(ls.wi, si.ns);
             return emission_weight(m_weights, pre + w_j,
                                    spread_mu(m_weights, theta + lobe_spread(m)));
         };
@@ -334,10 +329,10 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             if (auto sl = m_nee_lights->sample(light_context(si), u_select);
                 sl && !is_delta_light(sl->light->type())) {
                 const Light& light = *sl->light;
-                auto split_j = [&](const LightLiSample& ls) {
+                auto split_j = [&](const LightLiSample& ls, const RGB& f_ls) {
                     float pre;
-                    float w = split_to_light(light, ls, &pre);
-                    return last_by_light ? w + last_split(ls, pre, w) : w;
+                    float w = split_to_light(light, ls, f_ls, &pre);
+                    return last_by_light ? w + last_split(ls, f_ls, pre, w) : w;
                 };
                 L +=
                     beta *
@@ -355,10 +350,10 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             if (auto sl = m_nee_lights->sample(light_context(si), u_select);
                 sl && !is_delta_light(sl->light->type())) {
                 const Light& light = *sl->light;
-                auto last_only = [&](const LightLiSample& ls) {
+                auto last_only = [&](const LightLiSample& ls, const RGB& f_ls) {
                     float pre;
-                    const float w_j = split_to_light(light, ls, &pre);
-                    return last_split(ls, pre, w_j);
+                    const float w_j = split_to_light(light, ls, f_ls, &pre);
+                    return last_split(ls, f_ls, pre, w_j);
                 };
                 L += beta *
                      estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf,
