@@ -115,6 +115,21 @@ TEST(BdLightcutsEmission, LightSamplesAgreeWithPathAndLowerTheVariance) {
         << "mis " << pixel_variance(mis) << ", hit " << pixel_variance(hit);
 }
 
+TEST(BdLightcutsEmission, SeveralBsdfSamplesAtGlossyVerticesAgreeWithPath) {
+    // bdlightcuts.emission_samples: at the rough conductor's eye vertices, four BSDF samples
+    // find the emission (each counting a quarter, MIS by the counts against the light sample),
+    // the eye path going on along one. On the diffuse floor one, as by default.
+    auto ref = test::render_twice(kCloseLight, "path", 512, 4, 16, {}, 4);
+    auto one = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16, bdlc({}), 4);
+    auto four = test::render_twice(kCloseLight, "bdlightcuts", 32, 4, 16,
+                                   bdlc({{"bdlightcuts.emission_samples", "4"}}), 4);
+    test::expect_agreement(four, ref, 8, "emission_samples=4");
+    // The glossy reflection of the small light, which the light sample finds rarely, is
+    // found four times as often.
+    EXPECT_LT(pixel_variance(four), pixel_variance(one))
+        << "four " << pixel_variance(four) << ", one " << pixel_variance(one);
+}
+
 TEST(BdLightcutsEmission, SeveralRemainderPathsAgreeWithPath) {
     // At eye-path length 1 the remainder takes what the clamped first split leaves of every
     // longer path; three paths per continued eye path average to the same sum.
@@ -172,6 +187,8 @@ TEST(BdLightcutsEmission, SettingsTakeOnlyWhatTheyExpect) {
                        "lights.direct_samples must be 1");
     expect_usage_error({{"bdlightcuts.emission", "nee"}},
                        "bdlightcuts.emission must be mis or hit");
+    expect_usage_error({{"bdlightcuts.emission_samples", "0"}},
+                       "bdlightcuts.emission_samples must be at least 1");
     expect_usage_error({{"bdlightcuts.rest_paths", "0"}},
                        "bdlightcuts.rest_paths must be at least 1");
     expect_usage_error({{"bdlightcuts.rest", "trace"}}, "bdlightcuts.rest must be path or drop");

@@ -30,10 +30,11 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 // `weight`, if given, multiplies the result by a weight of the light sample (its direction, the
 // point on the light and its normal; f is bsdf.eval(si.wo, ls.wi), without the cosine), taken
 // before the shadow ray: where it is 0, no ray is traced (bdlightcuts' split weights, which are
-// 0 for most directions at some points).
+// 0 for most directions at some points). `bsdf_samples`: the BSDF samples the caller weighs
+// against this one light sample by MIS (the power heuristic with the counts).
 using LightSampleWeight = std::function<float(const LightLiSample& ls, const RGB& f)>;
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis = true, float light_pmf = 1.f,
-                    const LightSampleWeight& weight = {});
+                    const LightSampleWeight& weight = {}, int bsdf_samples = 1);
 
 }  // namespace ml

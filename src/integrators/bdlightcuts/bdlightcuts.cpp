@@ -194,6 +194,8 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     if (emission != "mis" && emission != "hit")
         throw UsageError("bdlightcuts.emission must be mis or hit, not '" + emission + "'");
     m_emission_mis = emission == "mis";
+    m_emission_samples = settings.get_int("emission_samples", m_emission_samples);
+    if (m_emission_samples < 1) throw UsageError("bdlightcuts.emission_samples must be at least 1");
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_floor = settings.get_float("floor", m_floor);
@@ -214,59 +216,109 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
         throw UsageError("bdlightcuts: c_clamp, c_d and spread must be > 0");
 }
 
-RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
-                                     float filter_weight, bool* rested) const {
-    RGB L, beta(1.f);
+namespace {
+
+// What an eye path carries from vertex to vertex for its splits' weights and for the MIS of the
+// emission its BSDF samples meet.
+struct EyeState {
+    RGB beta{1.f};
     float prefix = 0, theta = 0;
     // The split at the last non-delta eye vertex, waiting for D at the next vertex.
     bool pending = false;
     float pending_m = 0, pending_mu = 1;
     Vec3 pending_p;
-    int vsps = 0;
-    SurfaceInteraction si;
-    // The previous vertex's light sample, which the emission a BSDF sample finds is weighed
-    // against (MIS; none from the camera or after a delta lobe's sample).
-    bool prev_nee = false;
-    // Whether the previous vertex took a light sample for its split to an emitter
-    // (`lights.direct=sample`) that the emission found by its BSDF sample is weighed against.
-    bool prev_direct = false;
+    // Whether the previous vertex's light sample weighs the emission that its BSDF sample finds
+    // (MIS; none from the camera or after a delta lobe's sample), and whether that light sample
+    // was its split to an emitter (`lights.direct=sample`).
+    bool prev_nee = false, prev_direct = false;
+    // The BSDF sample's density for that MIS, times the vertex's BSDF samples for emission.
     float prev_pdf = 0;
     LightSampleContext prev_ctx;
+};
+
+// The emission met along `ray` (hit: the surface, else null), weighted as the path's last split
+// (what the earlier splits left), and the previous vertex's split to that emitter by its BSDF
+// sample's share. t_prev: 1 / the squared length of the segment from the pending split's vertex.
+RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* hit,
+                 const EyeState& s, float t_prev, const SplitWeightOptions& o,
+                 const LightSampler* nee) {
+    RGB le = emission_along(scene, ray, hit, !s.prev_nee, s.prev_pdf, s.prev_ctx, nee);
+    if (le.is_black()) return RGB();
+    float pre = s.prefix, w_prev = 0;
+    if (s.pending) {
+        float dk = hit ? abs_dot(hit->ng, hit->wo) / kPi : 0.f;
+        w_prev = split_weight(o, pre, s.pending_m * t_prev * dk, dk, s.pending_mu);
+        pre += w_prev;
+    }
+    RGB L = s.beta * le * emission_weight(o, pre, spread_mu(o, s.theta));
+    if (s.prev_direct && w_prev > 0) {
+        RGB le_mis =
+            s.prev_nee ? le : emission_along(scene, ray, hit, false, s.prev_pdf, s.prev_ctx, nee);
+        L += s.beta * le_mis * w_prev;
+    }
+    return L;
+}
+
+// The path's state past vertex si (BSDF bsdf, shading normal n) along BSDF sample bs: its split
+// there pending, and the MIS of what bs meets weighed by `bsdf_samples` BSDF samples. False when
+// the path ends (no throughput).
+bool scatter(EyeState& s, const SurfaceInteraction& si, const Bsdf& bsdf, const BsdfSample& bs,
+             bool direct_mis, bool last_by_light, int bsdf_samples, float t_prev,
+             const SplitWeightOptions& o, bool direct_sample, bool emission_mis) {
+    const Vec3& n = bsdf.frame().n;
+    s.prev_nee = !bs.is_specular() && (direct_sample ? last_by_light : emission_mis);
+    s.prev_direct = direct_mis && !bs.is_specular();
+    s.prev_pdf = bs.pdf_solid_angle * float(bsdf_samples);
+    s.prev_ctx = light_context(si);
+    if (bs.is_specular()) {
+        s.pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
+    } else {
+        float f = bsdf.eval(si.wo, bs.wi).max_component();
+        if (s.pending) {
+            float d = f * abs_dot(si.wo, n);
+            s.prefix += split_weight(o, s.prefix, s.pending_m * t_prev * d, d, s.pending_mu);
+        }
+        s.pending = true;
+        s.pending_m = f * abs_dot(bs.wi, si.ns);
+        s.pending_mu = spread_mu(o, s.theta);
+        s.pending_p = si.p;
+        s.theta += lobe_spread(s.pending_m);
+    }
+    s.beta *= bs.f * (abs_dot(bs.wi, n) / bs.pdf_solid_angle);
+    return !s.beta.is_black() && s.beta.is_finite();
+}
+
+}  // namespace
+
+RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
+                                     float filter_weight, bool* rested) const {
+    RGB L;
+    EyeState s;
+    int vsps = 0;
+    SurfaceInteraction si;
+    // The share of the emission met at this hit that this path carries: 1 / the previous
+    // vertex's BSDF samples for emission (the others are traced there, emission_samples).
+    float emission_share = 1;
     for (int depth = 0;; ++depth) {  // depth: scattering vertices before this hit
         bool hit = scene.intersect(ray, &si);
         float t_prev = 1.f;
-        if (pending && hit) t_prev = 1.f / std::max(1e-12f, length_squared(si.p - pending_p));
-        RGB le = emission_along(scene, ray, hit ? &si : nullptr, !prev_nee, prev_pdf, prev_ctx,
-                                m_nee_lights.get());
-        if (!le.is_black()) {
-            // The last split: what the earlier ones left, x_{j+1} being the emitter.
-            float pre = prefix, w_prev = 0;
-            if (pending) {
-                float dk = hit ? abs_dot(si.ng, si.wo) / kPi : 0.f;
-                w_prev = split_weight(m_weights, pre, pending_m * t_prev * dk, dk, pending_mu);
-                pre += w_prev;
-            }
-            L += beta * le * emission_weight(m_weights, pre, spread_mu(m_weights, theta));
-            // The split to this emitter from the previous vertex, its BSDF sample's share.
-            if (prev_direct && w_prev > 0) {
-                RGB le_mis = prev_nee ? le
-                                      : emission_along(scene, ray, hit ? &si : nullptr, false,
-                                                       prev_pdf, prev_ctx, m_nee_lights.get());
-                L += beta * le_mis * w_prev;
-            }
-        }
+        if (s.pending && hit) t_prev = 1.f / std::max(1e-12f, length_squared(si.p - s.pending_p));
+        L += met_emission(scene, ray, hit ? &si : nullptr, s, t_prev, m_weights,
+                          m_nee_lights.get()) *
+             emission_share;
+        emission_share = 1;
         if (!hit || depth >= m_settings.max_depth) break;
         if (vsps >= m_eye_length) {
             // The remainder: paths through x_{J+1} = si longer than the eye path, weighted by
             // what splits 1 ... J leave (trace_eye's prefix and pending split are r's inputs).
-            float pending_mt = pending ? pending_m * t_prev : -1.f;
+            float pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
             if (m_rest_path &&
-                !remainder_vanishes(m_weights, prefix, pending_mt, kInfinity, pending_mu)) {
-                RemainderWeight r(m_weights, prefix, pending_mt, pending_mu);
+                !remainder_vanishes(m_weights, s.prefix, pending_mt, kInfinity, s.pending_mu)) {
+                RemainderWeight r(m_weights, s.prefix, pending_mt, s.pending_mu);
                 // `rest_paths` of them, averaged (each with the whole throughput, which their
                 // Russian roulette looks at).
                 for (int i = 0; i < m_rest_paths; ++i) {
-                    RGB rp = continue_path(scene, si, depth, beta, sampler, ts.scratch,
+                    RGB rp = continue_path(scene, si, depth, s.beta, sampler, ts.scratch,
                                            *m_nee_lights, {m_settings.max_depth, 1}, &r) /
                              float(m_rest_paths);
                     L += rp;
@@ -281,27 +333,27 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         if (bsdf.has_nonspecular()) {
             // A VSP whose pairs all weigh 0 stays out of the VSP tree (vsp_weight_bound).
             float u_rep = sampler.get_1d();
-            float mu = spread_mu(m_weights, theta),
-                  pending_mt = pending ? pending_m * t_prev : -1.f;
-            if (vsp_weight_bound(m_weights, prefix, pending_mt, max_vsp_density(bsdf, si.wo),
-                                 pending_mu, mu) > 0) {
-                ts.vsps.push_back({prefix, pending_mt, pending_mu, mu, depth + 1});
-                ts.points.push_back({GatherPoint{si, bsdf, beta}, filter_weight, RGB(),
+            float mu = spread_mu(m_weights, s.theta),
+                  pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
+            if (vsp_weight_bound(m_weights, s.prefix, pending_mt, max_vsp_density(bsdf, si.wo),
+                                 s.pending_mu, mu) > 0) {
+                ts.vsps.push_back({s.prefix, pending_mt, s.pending_mu, mu, depth + 1});
+                ts.points.push_back({GatherPoint{si, bsdf, s.beta}, filter_weight, RGB(),
                                      int32_t(ts.vsps.size() - 1)});
                 ts.uniforms.push_back(u_rep);
             }
             ++vsps;
         }
         // Split j to an emitter by a light sample (`lights.direct=sample`). The weight is split
-        // j's for that point (SplitWeighting::weight's for an emitter's point).
-        // f_ls: bsdf.eval(si.wo, ls.wi), as estimate_direct has it.
+        // j's for that point (SplitWeighting::weight's for an emitter's point). f_ls:
+        // bsdf.eval(si.wo, ls.wi), as estimate_direct has it.
         auto split_to_light = [&](const Light& light, const LightLiSample& ls, const RGB& f_ls,
                                   float* pre_j) {
             float f = f_ls.max_component();
-            float pre = prefix;
-            if (pending) {
+            float pre = s.prefix;
+            if (s.pending) {
                 float d = f * abs_dot(si.wo, n);
-                pre += split_weight(m_weights, pre, pending_m * t_prev * d, d, pending_mu);
+                pre += split_weight(m_weights, pre, s.pending_m * t_prev * d, d, s.pending_mu);
             }
             float m = f * abs_dot(ls.wi, si.ns), dk = 0, t = 1;
             if (light.type() == LightType::Area) {
@@ -309,21 +361,26 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                 t = 1.f / std::max(1e-12f, length_squared(ls.p_light - si.p));
             }
             *pre_j = pre;
-            return split_weight(m_weights, pre, m * t * dk, dk, spread_mu(m_weights, theta));
+            return split_weight(m_weights, pre, m * t * dk, dk, spread_mu(m_weights, s.theta));
         };
         // The last split's weight for the emitter met from x_j along wi (x_{j+1} on it), w_j
         // being split j's for that point and pre the weights before it.
         auto last_split = [&](const LightLiSample& ls, const RGB& f_ls, float pre, float w_j) {
             float m = f_ls.max_component() * abs_dot(ls.wi, si.ns);
             return emission_weight(m_weights, pre + w_j,
-                                   spread_mu(m_weights, theta + lobe_spread(m)));
+                                   spread_mu(m_weights, s.theta + lobe_spread(m)));
         };
         // Whether split j's light sample is weighed by MIS, and whether it also carries the last
         // split's weight (emission=mis: the same path, x_j joined to a point of the emitter).
         bool direct_mis = false, last_by_light = false;
+        // BSDF samples for the emission met from here: more than one at a glossy eye vertex,
+        // whose reflections of small bright emitters the light sample rarely finds
+        // (bdlightcuts.emission_samples).
+        int bsdf_samples = 1;
         if (m_direct_sample && bsdf.has_nonspecular()) {
             direct_mis = m_settings.direct_mis || (bsdf.flags() & kBxdfGlossy);
             last_by_light = m_emission_mis && direct_mis;
+            if (last_by_light && (bsdf.flags() & kBxdfGlossy)) bsdf_samples = m_emission_samples;
             float u_select = sampler.get_1d();
             Vec2 u_light = sampler.get_2d();
             if (auto sl = m_nee_lights->sample(light_context(si), u_select);
@@ -334,10 +391,10 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                     float w = split_to_light(light, ls, f_ls, &pre);
                     return last_by_light ? w + last_split(ls, f_ls, pre, w) : w;
                 };
-                L +=
-                    beta *
-                    estimate_direct(scene, si, bsdf, light, u_light, direct_mis, sl->pmf, split_j) /
-                    sl->pmf;
+                L += s.beta *
+                     estimate_direct(scene, si, bsdf, light, u_light, direct_mis, sl->pmf, split_j,
+                                     bsdf_samples) /
+                     sl->pmf;
             }
         }
         // The last split's own light sample (`bdlightcuts.emission=mis` with
@@ -355,36 +412,41 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                     const float w_j = split_to_light(light, ls, f_ls, &pre);
                     return last_split(ls, f_ls, pre, w_j);
                 };
-                L += beta *
+                L += s.beta *
                      estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf,
                                      last_only) /
                      sl->pmf;
             }
         }
+        // The other BSDF samples for the emission met from here: each finds the next hit alone,
+        // and every sample's emission there counts 1 / bsdf_samples (MIS by the counts).
+        for (int k = 1; k < bsdf_samples; ++k) {
+            float uc = sampler.get_1d();
+            Vec2 u = sampler.get_2d();
+            auto bs = bsdf.sample(si.wo, uc, u);
+            if (!bs) continue;
+            EyeState e = s;
+            if (!scatter(e, si, bsdf, *bs, direct_mis, last_by_light, bsdf_samples, t_prev,
+                         m_weights, m_direct_sample, m_emission_mis))
+                continue;
+            Ray r = spawn_ray(si, bs->wi);
+            SurfaceInteraction next;
+            bool next_hit = scene.intersect(r, &next);
+            float t_next = 1.f;
+            if (e.pending && next_hit)
+                t_next = 1.f / std::max(1e-12f, length_squared(next.p - e.pending_p));
+            L += met_emission(scene, r, next_hit ? &next : nullptr, e, t_next, m_weights,
+                              m_nee_lights.get()) /
+                 float(bsdf_samples);
+        }
         float uc = sampler.get_1d();
         Vec2 u = sampler.get_2d();
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
-        prev_nee = !bs->is_specular() && (m_direct_sample ? last_by_light : m_emission_mis);
-        prev_direct = direct_mis && !bs->is_specular();
-        prev_pdf = bs->pdf_solid_angle;
-        prev_ctx = light_context(si);
-        if (bs->is_specular()) {
-            pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
-        } else {
-            float f = bsdf.eval(si.wo, bs->wi).max_component();
-            if (pending) {
-                float d = f * abs_dot(si.wo, n);
-                prefix += split_weight(m_weights, prefix, pending_m * t_prev * d, d, pending_mu);
-            }
-            pending = true;
-            pending_m = f * abs_dot(bs->wi, si.ns);
-            pending_mu = spread_mu(m_weights, theta);
-            pending_p = si.p;
-            theta += lobe_spread(pending_m);
-        }
-        beta *= bs->f * (abs_dot(bs->wi, n) / bs->pdf_solid_angle);
-        if (beta.is_black() || !beta.is_finite()) break;
+        if (!scatter(s, si, bsdf, *bs, direct_mis, last_by_light, bsdf_samples, t_prev, m_weights,
+                     m_direct_sample, m_emission_mis))
+            break;
+        emission_share = 1.f / float(bsdf_samples);
         ray = spawn_ray(si, bs->wi);
     }
     return L;
@@ -495,6 +557,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"rest_paths", m_rest_paths},
                               {"vsp_tree", m_tree_by_depth ? "depth" : "position"},
                               {"emission", m_emission_mis ? "mis" : "hit"},
+                              {"emission_samples", m_emission_samples},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
                               {"time_cap", cut_cap_json(cap_plan)},

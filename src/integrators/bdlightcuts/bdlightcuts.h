@@ -92,6 +92,9 @@ private:
     // light samples weighed by MIS (true), or by BSDF samples alone. With lights.direct=sample the
     // light sample is the emitters' split's own (bench/RESULTS.md, "Issue 17, session 15").
     bool m_emission_mis = true;
+    // bdlightcuts.emission_samples: BSDF samples for the emission met from a glossy eye vertex
+    // (the eye path goes on along one of them): bench/RESULTS.md, "Issue 17, session 18".
+    int m_emission_samples = 1;
     // lights.direct=sample (the default): the emitters' split by a light sample at each VSP;
     // points: by the emitters' points in the cut.
     bool m_direct_sample = true;
