@@ -263,12 +263,16 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
             RGB exact = cut.exact(points, gtree, p.gather, p.light);
             RGB tight = cut.tight_bound(points, gtree, p.gather, p.light);
             RGB loose = cut.loose_bound(points, gtree, p.gather, p.light);
+            cut.set_direction_bins(false);
+            RGB loose_all = cut.loose_bound(points, gtree, p.gather, p.light);
+            cut.set_direction_bins(true);
             if (!gtree.node(p.gather).is_leaf() || !tree.node(p.light).is_leaf()) ++clustered;
             for (int c = 0; c < 3; ++c) {
                 EXPECT_GE(tight[c] * 1.0001f + 1e-9f, exact[c])
                     << "pixel " << pixel.x << "," << pixel.y << " gather node " << p.gather
                     << " light node " << p.light << " channel " << c;
                 EXPECT_GE(loose[c] * 1.0001f + 1e-9f, tight[c]) << "channel " << c;
+                EXPECT_GE(loose_all[c], loose[c]) << "channel " << c;
             }
             if (p.grep >= 0 && p.bound > 0) {  // a pair of the cut: its error within its bound
                 EXPECT_GE(p.bound * 1.0001f + 1e-9f,

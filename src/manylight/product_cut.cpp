@@ -185,7 +185,7 @@ RGB ProductCut::loose_bound(const std::vector<WeightedGatherPoint>& points, cons
     float gb = geometric_bound({grown, m_tree.falloff(light)}, x);
     if (gb == 0) return b;
     RGB m = m_material_strength[size_t(gather)];
-    int bin = enclosing_direction_bin(grown, x);
+    int bin = m_direction_bins ? enclosing_direction_bin(grown, x) : -1;
     if (bin >= 0) {
         const RGB& mb = bin_strength(points, gtree, gather, bin);
         for (int c = 0; c < 3; ++c) m[c] = std::min(m[c], mb[c]);

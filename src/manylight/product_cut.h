@@ -109,6 +109,11 @@ public:
                float floor_luminance = 0);
     // Weights every pair's value by w (nullptr: none); w must outlive the cut maker's use.
     void set_pair_weight(const PairWeight* w) { m_pair_weight = w; }
+    // Whether the loose bound takes the BSDFs' bounds over the fixed cones of directions (true,
+    // the default) or over every direction alone. The fixed cones cost a BSDF bound per gather
+    // point and cone: mdlightcuts' kitchen takes 11% more CPU without them, bdlightcuts' 7 to 10%
+    // less at the same relMSE (bench/RESULTS.md, "Issue 17, session 18").
+    void set_direction_bins(bool on) { m_direction_bins = on; }
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
@@ -120,7 +125,7 @@ public:
               int32_t gather, int32_t light) const;
 
     // A cheaper bound of the pair's exact value, never below tight_bound (valid after refine() with
-    // the same points and tree).
+    // the same points and tree); without the direction bins, never below the bound with them.
     RGB loose_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
                     int32_t gather, int32_t light) const;
 
@@ -142,6 +147,7 @@ private:
     const LightTree& m_tree;
     const ManyLightSettings& m_settings;
     const PairWeight* m_pair_weight = nullptr;
+    bool m_direction_bins = true;
     struct HeapEntry {
         float bound;
         int32_t slot;  // index into m_cut

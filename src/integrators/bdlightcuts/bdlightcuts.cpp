@@ -654,6 +654,8 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     if (spare >= 0) {
         ts.weighting.vsps = &ts.vsps;
         ts.cut.set_pair_weight(&ts.weighting);
+        // The fixed cones' BSDF bounds cost more than they save here (product_cut.h).
+        ts.cut.set_direction_bins(false);
         int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
         C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, CutCriterion::Max, 1,
                           m_floor_luminance);
