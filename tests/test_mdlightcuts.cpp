@@ -235,7 +235,21 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
                 int32_t r = gtree.rep(int32_t(n), key);
                 EXPECT_TRUE(r == gtree.rep(G.children[0], key) ||
                             r == gtree.rep(G.children[1], key));
+                // The child that holds it has it as its own (the cut keeps its shadow ray).
+                int32_t holder = gtree.holds(G.children[0], r) ? G.children[0] : G.children[1];
+                EXPECT_TRUE(gtree.holds(holder, r));
+                EXPECT_EQ(gtree.rep(holder, key), r);
             }
+        }
+        // holds() is membership: every node holds exactly its members.
+        for (size_t n = 0; n < gtree.node_count(); ++n) {
+            const GatherTreeNode& G = gtree.node(int32_t(n));
+            int held = 0;
+            for (size_t i = 0; i < positions.size(); ++i)
+                held += gtree.holds(int32_t(n), int32_t(i));
+            EXPECT_EQ(held, G.end - G.begin);
+            for (int32_t m = G.begin; m < G.end; ++m)
+                EXPECT_TRUE(gtree.holds(int32_t(n), gtree.members()[size_t(m)]));
         }
         // A cut stopped at a small cap keeps no spike: no clustered pair whose estimate alone is
         // over a quarter of the pixel's.
