@@ -5,6 +5,7 @@
 
 #include "core/parallel.h"
 #include "core/stats.h"
+#include "integrators/bdlightcuts/eye_path.h"
 #include "manylight/gather.h"
 #include "manylight/gather_tree.h"
 #include "manylight/pilot.h"
@@ -215,80 +216,6 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     if (!(m_weights.c_clamp > 0) || !(m_weights.c_d > 0) || !(m_weights.spread > 0))
         throw UsageError("bdlightcuts: c_clamp, c_d and spread must be > 0");
 }
-
-namespace {
-
-// What an eye path carries from vertex to vertex for its splits' weights and for the MIS of the
-// emission its BSDF samples meet.
-struct EyeState {
-    RGB beta{1.f};
-    float prefix = 0, theta = 0;
-    // The split at the last non-delta eye vertex, waiting for D at the next vertex.
-    bool pending = false;
-    float pending_m = 0, pending_mu = 1;
-    Vec3 pending_p;
-    // Whether the previous vertex's light sample weighs the emission that its BSDF sample finds
-    // (MIS; none from the camera or after a delta lobe's sample), and whether that light sample
-    // was its split to an emitter (`lights.direct=sample`).
-    bool prev_nee = false, prev_direct = false;
-    // The BSDF sample's density for that MIS, times the vertex's BSDF samples for emission.
-    float prev_pdf = 0;
-    LightSampleContext prev_ctx;
-};
-
-// The emission met along `ray` (hit: the surface, else null), weighted as the path's last split
-// (what the earlier splits left), and the previous vertex's split to that emitter by its BSDF
-// sample's share. t_prev: 1 / the squared length of the segment from the pending split's vertex.
-RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* hit,
-                 const EyeState& s, float t_prev, const SplitWeightOptions& o,
-                 const LightSampler* nee) {
-    RGB le = emission_along(scene, ray, hit, !s.prev_nee, s.prev_pdf, s.prev_ctx, nee);
-    if (le.is_black()) return RGB();
-    float pre = s.prefix, w_prev = 0;
-    if (s.pending) {
-        float dk = hit ? abs_dot(hit->ng, hit->wo) / kPi : 0.f;
-        w_prev = split_weight(o, pre, s.pending_m * t_prev * dk, dk, s.pending_mu);
-        pre += w_prev;
-    }
-    RGB L = s.beta * le * emission_weight(o, pre, spread_mu(o, s.theta));
-    if (s.prev_direct && w_prev > 0) {
-        RGB le_mis =
-            s.prev_nee ? le : emission_along(scene, ray, hit, false, s.prev_pdf, s.prev_ctx, nee);
-        L += s.beta * le_mis * w_prev;
-    }
-    return L;
-}
-
-// The path's state past vertex si (BSDF bsdf, shading normal n) along BSDF sample bs: its split
-// there pending, and the MIS of what bs meets weighed by `bsdf_samples` BSDF samples. False when
-// the path ends (no throughput).
-bool scatter(EyeState& s, const SurfaceInteraction& si, const Bsdf& bsdf, const BsdfSample& bs,
-             bool direct_mis, bool last_by_light, int bsdf_samples, float t_prev,
-             const SplitWeightOptions& o, bool direct_sample, bool emission_mis) {
-    const Vec3& n = bsdf.frame().n;
-    s.prev_nee = !bs.is_specular() && (direct_sample ? last_by_light : emission_mis);
-    s.prev_direct = direct_mis && !bs.is_specular();
-    s.prev_pdf = bs.pdf_solid_angle * float(bsdf_samples);
-    s.prev_ctx = light_context(si);
-    if (bs.is_specular()) {
-        s.pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
-    } else {
-        float f = bsdf.eval(si.wo, bs.wi).max_component();
-        if (s.pending) {
-            float d = f * abs_dot(si.wo, n);
-            s.prefix += split_weight(o, s.prefix, s.pending_m * t_prev * d, d, s.pending_mu);
-        }
-        s.pending = true;
-        s.pending_m = f * abs_dot(bs.wi, si.ns);
-        s.pending_mu = spread_mu(o, s.theta);
-        s.pending_p = si.p;
-        s.theta += lobe_spread(s.pending_m);
-    }
-    s.beta *= bs.f * (abs_dot(bs.wi, n) / bs.pdf_solid_angle);
-    return !s.beta.is_black() && s.beta.is_finite();
-}
-
-}  // namespace
 
 RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampler, ThreadState& ts,
                                      float filter_weight, bool* rested) const {

@@ -1,0 +1,50 @@
+// The eye path of Bidirectional Lightcuts between its vertices: the state its split weights and
+// the MIS of its BSDF samples' emission carry from vertex to vertex, the emission a ray meets
+// weighted as the path's last split, and the state past a BSDF sample (bdlightcuts.cpp's
+// trace_eye, which also gives every extra BSDF sample of bdlightcuts.emission_samples its own).
+#pragma once
+
+#include "core/color.h"
+#include "geometry/interaction.h"
+#include "integrators/bdlightcuts/split_weights.h"
+#include "lights/light.h"
+#include "materials/bsdf.h"
+#include "scene/scene.h"
+
+namespace ml {
+
+class LightSampler;
+
+// What an eye path carries from vertex to vertex for its splits' weights and for the MIS of the
+// emission its BSDF samples meet.
+struct EyeState {
+    RGB beta{1.f};
+    float prefix = 0, theta = 0;
+    // The split at the last non-delta eye vertex, waiting for D at the next vertex.
+    bool pending = false;
+    float pending_m = 0, pending_mu = 1;
+    Vec3 pending_p;
+    // Whether the previous vertex's light sample weighs the emission that its BSDF sample finds
+    // (MIS; none from the camera or after a delta lobe's sample), and whether that light sample
+    // was its split to an emitter (`lights.direct=sample`).
+    bool prev_nee = false, prev_direct = false;
+    // The BSDF sample's density for that MIS, times the vertex's BSDF samples for emission.
+    float prev_pdf = 0;
+    LightSampleContext prev_ctx;
+};
+
+// The emission met along `ray` (hit: the surface, else null), weighted as the path's last split
+// (what the earlier splits left), and the previous vertex's split to that emitter by its BSDF
+// sample's share. t_prev: 1 / the squared length of the segment from the pending split's vertex.
+RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* hit,
+                 const EyeState& s, float t_prev, const SplitWeightOptions& o,
+                 const LightSampler* nee);
+
+// The path's state past vertex si (BSDF bsdf, shading normal n) along BSDF sample bs: its split
+// there pending, and the MIS of what bs meets weighed by `bsdf_samples` BSDF samples. False when
+// the path ends (no throughput).
+bool scatter(EyeState& s, const SurfaceInteraction& si, const Bsdf& bsdf, const BsdfSample& bs,
+             bool direct_mis, bool last_by_light, int bsdf_samples, float t_prev,
+             const SplitWeightOptions& o, bool direct_sample, bool emission_mis);
+
+}  // namespace ml
