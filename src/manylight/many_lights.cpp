@@ -21,15 +21,22 @@ constexpr int kDefaultVplCount = 100000;
 
 RGB visible_point_light(const Scene& scene, const PointLightSet& set,
                         const ManyLightSettings& settings, const PointLight& pl,
-                        const GatherPoint& g, ShadowResult* shadow) {
+                        const GatherPoint& g, ShadowResult* shadow, const PointLightWeigh& weigh) {
     RGB c;
     Ray ray;
+    PointLightTerms terms;
     if (shadow) *shadow = ShadowResult::NotCast;
-    if (!point_light_contribution(set, pl, g, &c, &ray)) return RGB();
+    if (!point_light_contribution(set, pl, g, &c, &ray, weigh ? &terms : nullptr)) return RGB();
+    float w = 1;
+    if (weigh) {
+        w = weigh(terms);
+        if (!(w > 0)) return RGB();
+    }
     c = settings.clamped(c, pl.is_vpl);
     bool blocked = scene.occluded(ray);
     if (shadow) *shadow = blocked ? ShadowResult::Occluded : ShadowResult::Visible;
-    return blocked ? RGB() : c;
+    if (blocked) return RGB();
+    return weigh ? c * w : c;
 }
 
 RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& settings,

@@ -5,10 +5,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "manylight/direct.h"
+#include "manylight/gather.h"
 #include "manylight/light_tree.h"
 #include "manylight/pilot.h"
 #include "manylight/point_light_set.h"
@@ -62,11 +64,14 @@ enum class ShadowResult : uint8_t { NotCast, Visible, Occluded };
 
 // What `pl` gives at g with its shadow ray: point_light_contribution, clamped as the settings
 // say (VPLs), or nothing when the ray is blocked. The one shading of a single point light that
-// `vpl`, `lightcuts` and `stochasticlightcuts` share. *shadow (when given) receives what the
-// shadow ray found.
+// `vpl`, `lightcuts`, `stochasticlightcuts` and the product cuts share. *shadow (when given)
+// receives what the shadow ray found. `weigh` (when given) weighs the value from the pair's terms
+// before the shadow ray, which is not cast where the weight is 0 (bdlightcuts' split weights).
+using PointLightWeigh = std::function<float(const PointLightTerms& terms)>;
 RGB visible_point_light(const Scene& scene, const PointLightSet& set,
                         const ManyLightSettings& settings, const PointLight& pl,
-                        const GatherPoint& g, ShadowResult* shadow = nullptr);
+                        const GatherPoint& g, ShadowResult* shadow = nullptr,
+                        const PointLightWeigh& weigh = {});
 // The same without the shadow ray, the light taken as seen: for lightcuts' reconstruction cuts,
 // where the nearby samples' shadow rays say it is.
 RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& settings,

@@ -126,14 +126,9 @@ RGB ProductCut::value(const WeightedGatherPoint& p, int32_t light) const {
     const PointLight& pl = m_set.lights[size_t(light)];
     if (!m_pair_weight) return visible_point_light(m_scene, m_set, m_settings, pl, p.g);
     // The weight from the contribution's own terms (one BSDF evaluation), the shadow ray last.
-    RGB c;
-    Ray ray;
-    PointLightTerms terms;
-    if (!point_light_contribution(m_set, pl, p.g, &c, &ray, &terms)) return RGB();
-    float w = m_pair_weight->weight(p, pl, terms);
-    if (!(w > 0)) return RGB();
-    c = m_settings.clamped(c, pl.is_vpl);
-    return m_scene.occluded(ray) ? RGB() : c * w;
+    return visible_point_light(
+        m_scene, m_set, m_settings, pl, p.g, nullptr,
+        [&](const PointLightTerms& t) { return m_pair_weight->weight(p, pl, t); });
 }
 
 RGB ProductCut::tight_bound(const std::vector<WeightedGatherPoint>& points, const GatherTree& gtree,
