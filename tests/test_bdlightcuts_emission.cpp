@@ -192,6 +192,8 @@ TEST(BdLightcutsEmission, SettingsTakeOnlyWhatTheyExpect) {
     expect_usage_error({{"bdlightcuts.rest_paths", "0"}},
                        "bdlightcuts.rest_paths must be at least 1");
     expect_usage_error({{"bdlightcuts.rest", "trace"}}, "bdlightcuts.rest must be path or drop");
+    expect_usage_error({{"tree.reps", "0"}}, "tree.reps must be 1 to 256");
+    expect_usage_error({{"tree.reps", "257"}}, "tree.reps must be 1 to 256");
     expect_usage_error({{"bdlightcuts.vsp_tree", "kd"}},
                        "bdlightcuts.vsp_tree must be depth or position");
 }

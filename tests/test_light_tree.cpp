@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "core/error.h"
 #include "core/rng.h"
 #include "manylight/light_tree.h"
 #include "manylight/representative.h"
@@ -204,35 +205,48 @@ TEST(LightTree, RepresentativesPerSample) {
     std::vector<PointLight> lights(4);
     for (int i = 0; i < 4; ++i) lights[size_t(i)].p = Vec3(float(i), 0, 0);
     for (int i = 0; i < 4; ++i) lights[size_t(i)].intensity = RGB(float(i + 1));
-    int count[4][kLightTreeReps] = {};
-    int same_as_first = 0, trials = 2000;
-    for (int s = 0; s < trials; ++s) {
-        LightTreeOptions opts;
-        opts.seed = uint64_t(s);
-        LightTree t(lights, opts);
-        for (int32_t i = 0; i < int32_t(t.node_count()); ++i) {
-            const LightTreeNode& n = t.node(i);
-            ASSERT_EQ(t.rep(i, 0), t.light(i));
-            for (int k = 0; k < kLightTreeReps; ++k) {
-                if (n.is_leaf()) {
-                    ASSERT_EQ(t.rep(i, k), t.light(i));
-                } else {
-                    int32_t r = t.rep(i, k);
-                    ASSERT_TRUE(r == t.rep(n.children()[0], k) || r == t.rep(n.children()[1], k));
+    for (int reps : {kLightTreeReps, 64}) {
+        std::vector<std::array<int, 4>> count(size_t(reps), std::array<int, 4>{});
+        int same_as_first = 0, same_as_last = 0, trials = 2000;
+        for (int s = 0; s < trials; ++s) {
+            LightTreeOptions opts;
+            opts.seed = uint64_t(s);
+            opts.reps = reps;
+            LightTree t(lights, opts);
+            ASSERT_EQ(t.reps(), reps);
+            for (int32_t i = 0; i < int32_t(t.node_count()); ++i) {
+                const LightTreeNode& n = t.node(i);
+                ASSERT_EQ(t.rep(i, 0), t.light(i));
+                for (int k = 0; k < reps; ++k) {
+                    if (n.is_leaf()) {
+                        ASSERT_EQ(t.rep(i, k), t.light(i));
+                    } else {
+                        int32_t r = t.rep(i, k);
+                        ASSERT_TRUE(r == t.rep(n.children()[0], k) ||
+                                    r == t.rep(n.children()[1], k));
+                    }
                 }
             }
+            int32_t root = t.root(PointLightKind::Omni);
+            for (int k = 0; k < reps; ++k) ++count[size_t(k)][size_t(t.rep(root, k))];
+            same_as_first += t.rep(root, 1) == t.rep(root, 0);
+            same_as_last += t.rep(root, reps - 1) == t.rep(root, reps - 2);
         }
-        int32_t root = t.root(PointLightKind::Omni);
-        for (int k = 0; k < kLightTreeReps; ++k) ++count[t.rep(root, k)][k];
-        same_as_first += t.rep(root, 1) == t.rep(root, 0);
+        for (int i = 0; i < 4; ++i)
+            for (int k = 0; k < reps; ++k) {
+                double p = (i + 1) / 10.0, sd = std::sqrt(trials * p * (1 - p));
+                EXPECT_NEAR(count[size_t(k)][size_t(i)], trials * p, 5 * sd)
+                    << "light " << i << " rep " << k << " of " << reps;
+            }
+        // Independent picks agree with probability sum p_i^2 = 0.3.
+        EXPECT_NEAR(same_as_first, 0.3 * trials, 5 * std::sqrt(trials * 0.3 * 0.7));
+        EXPECT_NEAR(same_as_last, 0.3 * trials, 5 * std::sqrt(trials * 0.3 * 0.7));
     }
-    for (int i = 0; i < 4; ++i)
-        for (int k = 0; k < kLightTreeReps; ++k) {
-            double p = (i + 1) / 10.0, sd = std::sqrt(trials * p * (1 - p));
-            EXPECT_NEAR(count[i][k], trials * p, 5 * sd) << "light " << i << " rep " << k;
-        }
-    // Independent picks agree with probability sum p_i^2 = 0.3.
-    EXPECT_NEAR(same_as_first, 0.3 * trials, 5 * std::sqrt(trials * 0.3 * 0.7));
+    LightTreeOptions none;
+    none.reps = 0;
+    EXPECT_THROW(LightTree(lights, none), UsageError);
+    none.reps = kLightTreeMaxReps + 1;
+    EXPECT_THROW(LightTree(lights, none), UsageError);
 }
 
 TEST(LightTree, MetricPrefersCloseAndAligned) {

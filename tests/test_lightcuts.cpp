@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "core/error.h"
 #include "manylight/light_tree.h"
 #include "render_helpers.h"
 #include "scene/default_scene.h"
@@ -203,6 +204,37 @@ TEST(Lightcuts, WarnsWhenCutsReachTheCap) {
             EXPECT_LT(capped, 0.05);
             EXPECT_FALSE(warned);
         }
+    }
+}
+
+// lightcuts.reps draws from the tree's representatives (tree.reps): all of them by default, and
+// never more than the tree keeps (a k past them would read another node's).
+TEST(Lightcuts, RepresentativesComeFromTheTreesOwn) {
+    RenderOptions opt;
+    opt.integrator = "lightcuts";
+    opt.spp = 1;
+    opt.width = opt.height = 8;
+    opt.set["vpl.count"] = "200";
+    opt.set["tree.reps"] = "4";
+    RenderOutput out = render_scene(cornell(), opt);
+    EXPECT_EQ(out.figures.integrator_stats.at("lightcuts").at("reps").get<int>(), 4);
+    opt.set["lightcuts.reps"] = "8";
+    try {
+        render_scene(cornell(), opt);
+        ADD_FAILURE() << "lightcuts.reps 8 accepted with tree.reps 4";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("lightcuts.reps must be 1 to tree.reps (4)"),
+                  std::string::npos)
+            << e.what();
+    }
+    // `vpl` builds no tree: the setting is one it does not have.
+    opt.integrator = "vpl";
+    opt.set.erase("lightcuts.reps");
+    try {
+        render_scene(cornell(), opt);
+        ADD_FAILURE() << "tree.reps accepted by vpl";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("--set tree.reps"), std::string::npos) << e.what();
     }
 }
 

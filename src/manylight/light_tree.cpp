@@ -1,7 +1,10 @@
 #include "manylight/light_tree.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 
+#include "core/error.h"
 #include "core/parallel.h"
 #include "core/rng.h"
 #include "manylight/representative.h"
@@ -122,8 +125,9 @@ struct BuildNode {
 namespace detail {
 struct LightTreeBuild {
     std::vector<BuildNode> nodes;
-    std::vector<int32_t> reps;  // kLightTreeReps per node
-    std::vector<RGB> chroma;    // per node: its lights' largest I_c / w_i
+    std::vector<int32_t> reps;  // `rep_count` per node
+    size_t rep_count = kLightTreeReps;
+    std::vector<RGB> chroma;  // per node: its lights' largest I_c / w_i
 };
 }  // namespace detail
 
@@ -179,7 +183,7 @@ int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>&
     // 2. One leaf per light, in Morton order.
     const size_t base = build.nodes.size();
     build.nodes.resize(base + n);
-    build.reps.resize(build.nodes.size() * kLightTreeReps);
+    build.reps.resize(build.nodes.size() * build.rep_count);
     build.chroma.resize(build.nodes.size());
     Clusters cl;
     cl.resize(n);
@@ -188,7 +192,7 @@ int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>&
         BuildNode& node = build.nodes[base + k];
         node.kind = kind;
         // A leaf's representatives are all its light.
-        std::fill_n(build.reps.begin() + ptrdiff_t((base + k) * kLightTreeReps), kLightTreeReps,
+        std::fill_n(build.reps.begin() + ptrdiff_t((base + k) * build.rep_count), build.rep_count,
                     keys[k].second);
         node.intensity = pl.intensity;
         node.weight = selection_weight(pl.intensity);
@@ -258,7 +262,7 @@ int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>&
 
         size_t first_new = build.nodes.size();
         build.nodes.resize(first_new + merges);
-        build.reps.resize(build.nodes.size() * kLightTreeReps);
+        build.reps.resize(build.nodes.size() * build.rep_count);
         build.chroma.resize(build.nodes.size());
         next.resize(kept);
         parallel_for(size_t(0), m, [&](size_t i) {
@@ -302,11 +306,11 @@ int32_t build_kind(detail::LightTreeBuild& build, const std::vector<PointLight>&
             // very weights stored in the nodes, which the estimate's scale uses.
             Rng rng(hash_ints(opts.seed, uint64_t(kind), id));
             float u = rng.next_float();
-            int32_t* reps = &build.reps[id * kLightTreeReps];
-            for (int k = 0; k < kLightTreeReps; ++k) {
+            int32_t* reps = &build.reps[id * build.rep_count];
+            for (size_t k = 0; k < build.rep_count; ++k) {
                 if (k > 0) u = rng.next_float();
                 bool pick_a = node.weight > 0 ? u * node.weight < na.weight : u < 0.5f;
-                reps[k] = build.reps[size_t(pick_a ? a : b) * kLightTreeReps + size_t(k)];
+                reps[k] = build.reps[size_t(pick_a ? a : b) * build.rep_count + k];
             }
             build.nodes[id] = node;
             next.node[p] = int32_t(id), next.box[p] = node.bounds, next.axis[p] = node.cone.axis;
@@ -323,7 +327,12 @@ LightTree::LightTree(const std::vector<PointLight>& lights, const LightTreeOptio
     : m_light_count(lights.size()) {
     // A binary tree over n leaves has 2n - 1 nodes: reserve them all so that no build step
     // reallocates under parallel writers.
+    if (opts.reps < 1 || opts.reps > kLightTreeMaxReps)
+        throw UsageError(
+            fmt::format("tree.reps must be 1 to {}, not {}", kLightTreeMaxReps, opts.reps));
+    m_rep_count = opts.reps;
     detail::LightTreeBuild build;
+    build.rep_count = size_t(opts.reps);
     build.nodes.reserve(2 * lights.size());
     for (PointLightKind kind : kAllPointLightKinds)
         m_roots[int(kind)] = build_kind(build, lights, kind, opts);
@@ -364,7 +373,7 @@ void LightTree::lay_out(detail::LightTreeBuild& build) {
     // 2. The hot nodes and the side arrays in that order.
     const size_t n = old_of_new.size();
     m_nodes.resize(n);
-    m_reps.resize(n * kLightTreeReps);
+    m_reps.resize(n * build.rep_count);
     m_weight.resize(n);
     m_intensity.resize(n);
     m_falloff.resize(n);
@@ -378,8 +387,8 @@ void LightTree::lay_out(detail::LightTreeBuild& build) {
         hot.first_child = first_child[i];
         hot.clampable = b.clampable;
         hot.kind = b.kind;
-        for (int k = 0; k < kLightTreeReps; ++k)
-            m_reps[size_t(k) * n + i] = build.reps[old * kLightTreeReps + size_t(k)];
+        for (size_t k = 0; k < build.rep_count; ++k)
+            m_reps[i * build.rep_count + k] = build.reps[old * build.rep_count + k];
         m_weight[i] = b.weight;
         m_intensity[i] = b.intensity;
         std::copy_n(b.falloff, kFalloffBins, m_falloff[i].begin());

@@ -19,12 +19,16 @@
 
 namespace ml {
 
-// Independent representatives kept per node: rep k of a node is picked among its lights with
-// probability proportional to their selection weight (representative.h: the intensity's
-// luminance), independently for each k, so a gather point that shades with rep k (k drawn from
-// its sampler) makes an error of zero mean in every channel, and the samples of a pixel make
-// independent errors that average out (rep 0 is LightTree::light).
+// Independent representatives kept per node (LightTreeOptions::reps, this many by default): rep
+// k of a node is picked among its lights with probability proportional to their selection
+// weight (representative.h: the intensity's luminance), independently for each k, so a gather
+// point that shades with rep k (k drawn from its sampler) makes an error of zero mean in every
+// channel, and the samples of a pixel make independent errors that average out (rep 0 is
+// LightTree::light). Every pixel draws from the same k, so their errors also add up over the
+// image: the image's mean moves with the tree's seed, less with more (bench/RESULTS.md, "Issue
+// 17, session 19").
 constexpr int kLightTreeReps = 8;
+constexpr int kLightTreeMaxReps = 256;
 
 // The hot part of a node: what a cut's bounds (bounds.h) and refinement read at every node it
 // visits, in one cache line. What only a node whose estimate is made needs (its weight and
@@ -72,7 +76,8 @@ struct LightTreeOptions {
     // c of the metric for oriented lights is half the scene's bounding-box diagonal, given here.
     // <= 0: half the diagonal of the oriented lights' own bounding box.
     float scene_diagonal = 0;
-    int window_radius = 16;  // PLOC's search radius (neighbours on each side)
+    int window_radius = 16;     // PLOC's search radius (neighbours on each side)
+    int reps = kLightTreeReps;  // representatives per node, 1 to kLightTreeMaxReps
 };
 
 namespace detail {
@@ -88,9 +93,14 @@ public:
     int32_t root(PointLightKind kind) const { return m_roots[int(kind)]; }
     const LightTreeNode& node(int32_t i) const { return m_nodes[size_t(i)]; }
     LightNodeRef ref(int32_t i) const { return {m_nodes[size_t(i)], falloff(i)}; }
-    // Representative k (0 <= k < kLightTreeReps) of node i; 0 is light(i). Stored k by k, so a
-    // cut, which reads one k throughout, finds siblings' side by side.
-    int32_t rep(int32_t i, int k) const { return m_reps[size_t(k) * m_nodes.size() + size_t(i)]; }
+    // Representatives per node.
+    int reps() const { return m_rep_count; }
+    // Representative k (0 <= k < reps()) of node i; 0 is light(i). Stored node by node: the
+    // pixels beside one another draw different k, and read one cache line per node rather than
+    // one per k (with 8 the same CPU as k by k, with 32 to 64 2% less).
+    int32_t rep(int32_t i, int k) const {
+        return m_reps[size_t(i) * size_t(m_rep_count) + size_t(k)];
+    }
     // The node's representative light (a leaf: its light), an index into the lights.
     int32_t light(int32_t i) const { return rep(i, 0); }
     // Sum of the lights' selection weights: rep k is light i with probability w_i / weight, and
@@ -108,7 +118,8 @@ private:
 
     std::vector<LightTreeNode> m_nodes;  // depth-first, siblings side by side
     // Side arrays, per node.
-    std::vector<int32_t> m_reps;  // kLightTreeReps planes of node_count() entries
+    std::vector<int32_t> m_reps;  // reps() planes of node_count() entries
+    int m_rep_count = kLightTreeReps;
     std::vector<float> m_weight;
     std::vector<RGB> m_intensity;
     std::vector<std::array<uint8_t, kFalloffBins>> m_falloff;

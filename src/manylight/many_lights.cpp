@@ -98,6 +98,12 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
     if (seed >= 0) m.explicit_seed = uint64_t(seed);
     m.lights.seed = m.explicit_seed.value_or(0);
     m.clamp = s.get_float("vpl.clamp", defaults.clamp);
+    // Read only by the integrators that build a light tree, so that others report it unused.
+    if (defaults.tree_reps > 0) {
+        m.tree_reps = s.get_int("tree.reps", defaults.tree_reps);
+        if (m.tree_reps < 1 || m.tree_reps > kLightTreeMaxReps)
+            throw UsageError(fmt::format("tree.reps must be 1 to {}", kLightTreeMaxReps));
+    }
     std::string direct = s.get_string("lights.direct", defaults.direct);
     if (direct == "sample")
         m.lights.sampled_direct = true;
@@ -129,6 +135,7 @@ LightTreeOptions light_tree_options(const Scene& scene, const ManyLightSettings&
     LightTreeOptions opts;
     opts.seed = settings.lights.seed;
     opts.scene_diagonal = length(scene.bounds().diagonal());
+    opts.reps = settings.tree_reps;
     return opts;
 }
 

@@ -26,6 +26,7 @@ struct ManyLightSettings {
     // lights.direct=sample: area and infinite lights by next-event estimation
     // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
     int direct_samples = 4;
+    int tree_reps = kLightTreeReps;  // `tree.reps`: representatives per light-tree node
     // lights.direct_mis=always|glossy: light and BSDF samples weighted by MIS at every gather
     // point (true), or only at glossy ones, the others taking light samples alone (false).
     bool direct_mis = true;
@@ -38,6 +39,7 @@ struct ManyLightSettings {
         const char* glossy = "diffuse";
         float clamp = 0.2f;
         const char* direct = "sample";
+        int tree_reps = kLightTreeReps;  // 0: builds no light tree (tree.reps is not read)
     };
     static ManyLightSettings read(const Settings& s, const Defaults& defaults);
     static ManyLightSettings read(const Settings& s) { return read(s, Defaults{}); }

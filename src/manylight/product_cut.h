@@ -95,7 +95,7 @@ public:
         : m_scene(scene), m_set(set), m_tree(tree), m_settings(settings) {}
 
     // The cut of one pixel pass: the pixel's radiance from the point lights. Light
-    // representative k (0 <= k < kLightTreeReps) of every light node. `known`: the rest of the
+    // representative k (0 <= k < LightTree::reps()) of every light node. `known`: the rest of the
     // pixel's estimate (emission, sampled direct light), which counts in the estimate that the
     // error threshold is relative to. Clears the cut first. A pair whose gather node has at most
     // `tighten_members` members gets its tight bound when it reaches the top of the heap (as

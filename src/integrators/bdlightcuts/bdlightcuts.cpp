@@ -20,6 +20,13 @@ namespace ml {
 
 namespace {
 
+// Representatives per light-tree node (tree.reps). Every pixel draws its cut's from the same
+// few, so their errors add up over the image and move its mean with the seed: with 32 instead of
+// 8 the kitchen's red mean spreads a third as much between seeds, for relMSE 6% lower at 2% more
+// CPU (bench/RESULTS.md, "Issue 17, session 19"; mdlightcuts, whose error is mostly its bias,
+// gains nothing from them).
+constexpr int kTreeReps = 32;
+
 // D of a point light towards unit direction w (from the light): the light side's lobe as in
 // split_weights.h. VPLs: f(w, wi) |cos| of their surface (the largest channel of f);
 // emitters: their emission's density. Every channel of the light's intensity towards w is at
@@ -163,7 +170,7 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // The point-light set is `vpl`'s, with the emitters as point lights, whole BSDFs at the VPLs
     // and no clamping: the split weights do what those settings do for `vpl`.
     // lights.direct defaults to sample: bench/RESULTS.md, "Issue 17, session 14".
-    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample"});
+    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample", kTreeReps});
     // lights.direct=sample: the split that joins a VSP to an emitter by a light sample at the
     // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
     // in the cut (the delta lights stay points).
@@ -583,7 +590,7 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
         ts.cut.set_pair_weight(&ts.weighting);
         // The fixed cones' BSDF bounds cost more than they save here (product_cut.h).
         ts.cut.set_direction_bins(false);
-        int k = std::min(kLightTreeReps - 1, int(ts.uniforms[size_t(spare)] * kLightTreeReps));
+        int k = std::min(m_tree.reps() - 1, int(ts.uniforms[size_t(spare)] * float(m_tree.reps())));
         C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, CutCriterion::Max, 1,
                           m_floor_luminance);
         pairs = int(ts.cut.pairs().size());

@@ -23,9 +23,11 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     m_verify = settings.get_bool("verify", false);
     m_floor = settings.get_float("floor", m_floor);
     if (!(m_floor >= 0)) throw UsageError("lightcuts.floor must be >= 0");
-    m_reps = settings.get_int("reps", kLightTreeReps);
-    if (m_reps < 1 || m_reps > kLightTreeReps)
-        throw UsageError(fmt::format("lightcuts.reps must be 1 to {}", kLightTreeReps));
+    // Drawn from the tree's (tree.reps), all of them unless told fewer.
+    m_reps = settings.get_int("reps", m_settings.tree_reps);
+    if (m_reps < 1 || m_reps > m_settings.tree_reps)
+        throw UsageError(
+            fmt::format("lightcuts.reps must be 1 to tree.reps ({})", m_settings.tree_reps));
     m_reconstruct = settings.get_int("reconstruct", m_reconstruct);
     if (m_reconstruct < 0 || m_reconstruct > 64)
         throw UsageError(

@@ -5,7 +5,7 @@
 namespace ml {
 
 VplIntegrator::VplIntegrator(const Settings& settings)
-    : m_settings(ManyLightSettings::read(settings)) {}
+    : m_settings(ManyLightSettings::read(settings, {.tree_reps = 0})) {}
 
 void VplIntegrator::prepare(const Scene& scene) {
     build_many_lights(scene, m_settings, &m_set, &m_direct);
