@@ -40,6 +40,18 @@ public:
         m_bounds.cos_theta_e = 0;  // diffuse: each point emits over its hemisphere
         m_bounds.two_sided = two_sided;
         m_bounds.phi = m_area > 0 ? std::max(0.f, L.luminance()) * m_area : 0.f;
+        // Small meshes: each triangle's corners, normal and centroid, which every light sample
+        // reads for every triangle (receiver_importances).
+        if (mesh->triangle_count() <= kPerReceiverChoice) {
+            m_small.resize(mesh->triangle_count());
+            for (size_t i = 0; i < m_small.size(); ++i) {
+                SmallTriangle& t = m_small[i];
+                const uint32_t* idx = &mesh->indices[3 * i];
+                for (int k = 0; k < 3; ++k) t.v[k] = mesh->p[idx[k]];
+                t.n = mesh->triangle_normal(i);
+                t.centroid = (t.v[0] + t.v[1] + t.v[2]) / 3.f;
+            }
+        }
     }
     LightType type() const override { return LightType::Area; }
 
@@ -51,7 +63,7 @@ public:
         if (!(pmf_tri > 0)) return std::nullopt;
         Vec3 v[3];
         corners(tri, v);
-        Vec3 n = m_mesh->triangle_normal(tri);
+        Vec3 n = normal(tri);
         // Seen from behind, a one-sided triangle sends nothing: no sample.
         if (!m_two_sided && dot(n, ctx.p - v[0]) <= 0) return std::nullopt;
         LightLiSample s;
@@ -171,11 +183,18 @@ private:
         Vec3 v[3];
         corners(tri, v);
         point_at(v, sample_uniform_triangle({ux, u.y}), p, p_error);
-        *n = m_mesh->triangle_normal(tri);
+        *n = normal(tri);
     }
     void corners(size_t tri, Vec3 v[3]) const {
+        if (!m_small.empty()) {
+            for (int k = 0; k < 3; ++k) v[k] = m_small[tri].v[k];
+            return;
+        }
         const uint32_t* idx = &m_mesh->indices[3 * tri];
         for (int k = 0; k < 3; ++k) v[k] = m_mesh->p[idx[k]];
+    }
+    Vec3 normal(size_t tri) const {
+        return m_small.empty() ? m_mesh->triangle_normal(tri) : m_small[tri].n;
     }
     // The point at barycentrics b and its error bound: as for ray hits, with one rounding fewer
     // (pbrt-v4's Triangle::Sample).
@@ -245,7 +264,7 @@ private:
             imp[t] = 0;
             Vec3 v[3];
             corners(t, v);
-            if (!m_two_sided && dot(m_mesh->triangle_normal(t), ctx.p - v[0]) <= 0) continue;
+            if (!m_two_sided && dot(normal(t), ctx.p - v[0]) <= 0) continue;
             Vec3 dir;
             float w = estimated_solid_angle(t, v, ctx.p, &dir);
             if (ctx.ns != Vec3() && dir != Vec3()) w *= std::max(0.1f, dot(ctx.ns, dir));
@@ -261,11 +280,11 @@ private:
         float area = m_tri.func()[tri];
         *dir = Vec3();
         if (!(area > 0)) return 0;
-        Vec3 d = (v[0] + v[1] + v[2]) / 3.f - p;
+        Vec3 d = (m_small.empty() ? (v[0] + v[1] + v[2]) / 3.f : m_small[tri].centroid) - p;
         float d2 = length_squared(d);
         if (!(d2 > 0)) return 2 * kPi;
         *dir = d / std::sqrt(d2);
-        return std::min(2 * kPi, area * std::abs(dot(m_mesh->triangle_normal(tri), *dir)) / d2);
+        return std::min(2 * kPi, area * std::abs(dot(normal(tri), *dir)) / d2);
     }
     // Solid-angle sampling pays where a triangle looks large: where it looks small (under
     // 0.05 sr, a 13-degree cone) 1 / d^2 and the cosines hardly vary over it and the cheaper
@@ -292,7 +311,12 @@ private:
         w[3] = c(v[2]);
     }
 
+    struct SmallTriangle {
+        Vec3 v[3], n, centroid;
+    };
+
     const TriangleMesh* m_mesh;
+    std::vector<SmallTriangle> m_small;  // meshes of at most kPerReceiverChoice triangles
     RGB m_L;
     bool m_two_sided;
     float m_area = 0;
