@@ -8,6 +8,7 @@
 // Lightcuts metric I * (alpha^2 + c^2 (1 - cos beta)^2), in O(N log N).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -29,6 +30,8 @@ namespace ml {
 // 17, session 19").
 constexpr int kLightTreeReps = 8;
 constexpr int kLightTreeMaxReps = 256;
+// Which of `reps` representatives a uniform u in [0, 1) draws.
+inline int rep_index(float u, int reps) { return std::min(reps - 1, int(u * float(reps))); }
 
 // The hot part of a node: what a cut's bounds (bounds.h) and refinement read at every node it
 // visits, in one cache line. What only a node whose estimate is made needs (its weight and

@@ -590,7 +590,7 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
         ts.cut.set_pair_weight(&ts.weighting);
         // The fixed cones' BSDF bounds cost more than they save here (product_cut.h).
         ts.cut.set_direction_bins(false);
-        int k = std::min(m_tree.reps() - 1, int(ts.uniforms[size_t(spare)] * float(m_tree.reps())));
+        int k = rep_index(ts.uniforms[size_t(spare)], m_tree.reps());
         C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, CutCriterion::Max, 1,
                           m_floor_luminance);
         pairs = int(ts.cut.pairs().size());

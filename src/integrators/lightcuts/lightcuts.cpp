@@ -137,7 +137,7 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
                              [&](const GatherPoint& g, float u) {
                                  int cut_size = 0;
                                  RGB direct = m_direct.estimate(ctx.scene, g, sampler);
-                                 int k = std::min(m_reps - 1, int(u * float(m_reps)));
+                                 int k = rep_index(u, m_reps);
                                  RGB c = shade(ctx.scene, g, k, &cut_size, direct, cap);
                                  *nodes += cut_size;
                                  return direct + c;
@@ -177,8 +177,7 @@ RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& 
             int cut_size = 0;
             RGB direct = m_direct.estimate(scene, g, sampler);
             const bool at_first = first;
-            const int k =
-                at_first && first_k >= 0 ? first_k : std::min(m_reps - 1, int(u * float(m_reps)));
+            const int k = at_first && first_k >= 0 ? first_k : rep_index(u, m_reps);
             first = false;
             RGB c;
             std::array<const SparseCut*, 4> agreeing;

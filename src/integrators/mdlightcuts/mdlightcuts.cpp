@@ -203,7 +203,7 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(
     RGB C;
     int pairs = 0;
     if (spare >= 0) {
-        int k = std::min(m_tree.reps() - 1, int(ts.uniforms[size_t(spare)] * float(m_tree.reps())));
+        int k = rep_index(ts.uniforms[size_t(spare)], m_tree.reps());
         C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, m_criterion, m_tighten,
                           m_floor_luminance);
         pairs = int(ts.cut.pairs().size());
