@@ -122,6 +122,12 @@ RenderOptions igi_options(const std::string& integrator, int spp) {
     o.spp = spp;
     o.threads = 2;
     o.set["vpl.count"] = "300";
+    // vpl on igi's VPLs: one set per render, clamped and diffuse-only as igi's are.
+    if (integrator == std::string("vpl")) {
+        o.set["vpl.sets"] = "one";
+        o.set["vpl.clamp"] = "0.2";
+        o.set["vpl.glossy"] = "diffuse";
+    }
     return o;
 }
 

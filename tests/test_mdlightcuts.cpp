@@ -42,6 +42,8 @@ RenderOptions many_light_options(const std::string& integrator, int res, int spp
     // about as much as their margin (lightcuts at 16 spp on cornell_4096: 98.6% to 100% of
     // pixels within 2% over 13 sets, the old and the new estimator alike).
     opt.set["vpl.seed"] = "0";
+    // The cut against the brute-force sum needs both on the same VPLs: one set per render.
+    opt.set["vpl.sets"] = "one";
     // The settings these thresholds were set on: the defaults before issue 13.
     opt.set["vpl.glossy"] = "bsdf";
     opt.set["lights.direct"] = "points";
@@ -201,7 +203,7 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
     auto sampler = create_sampler("independent", 16, 11);
     ScratchBuffer scratch;
     Rng rng(17);
-    int checked = 0, clustered = 0, spikes_checked = 0;
+    int checked = 0, clustered = 0, capped_pairs = 0;
     for (Point2i pixel : pixels) {
         std::vector<WeightedGatherPoint> points;
         std::vector<Vec3> positions;
@@ -251,15 +253,12 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
             for (int32_t m = G.begin; m < G.end; ++m)
                 EXPECT_TRUE(gtree.holds(int32_t(n), gtree.members()[size_t(m)]));
         }
-        // A cut stopped at a small cap keeps no spike: no clustered pair whose estimate alone is
-        // over a quarter of the pixel's.
-        RGB capped_total = cut.refine(points, gtree, 0, RGB(), 0.02f, 8, CutCriterion::Max, 1);
-        for (const ProductPair& p : cut.pairs()) {
-            if (gtree.node(p.gather).is_leaf() && tree.node(p.light).is_leaf()) continue;
-            EXPECT_LE(p.estimate.luminance(), 0.25f * capped_total.luminance() * 1.0001f)
-                << "pixel " << pixel.x << "," << pixel.y;
-            ++spikes_checked;
-        }
+        // A cut stopped at a small cap stops there, whatever its pairs' estimates: splitting
+        // the pairs whose estimate is a spike would split the high draws and keep the low ones,
+        // a cut that is dark on average. Its pairs still cover every light once.
+        cut.refine(points, gtree, 0, RGB(), 0.02f, 8, CutCriterion::Max, 1);
+        EXPECT_LE(cut.pairs().size(), 8u) << "pixel " << pixel.x << "," << pixel.y;
+        capped_pairs += int(cut.pairs().size());
         cut.refine(points, gtree, 0, RGB(), 0.02f, 2000, CutCriterion::Max, 1);
         std::vector<ProductPair> pairs = cut.pairs();
         // Random pairs: a random gather node with a light node a random number of levels down.
@@ -297,9 +296,9 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
         scratch.reset();
     }
     std::printf("%d pairs checked, %d of them clustered; %d pairs of capped cuts\n", checked,
-                clustered, spikes_checked);
+                clustered, capped_pairs);
     EXPECT_GT(clustered, 100);
-    EXPECT_GT(spikes_checked, 20);
+    EXPECT_GT(capped_pairs, 20);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@ Progress::Progress(std::string title, bool enabled, std::function<void(double)> 
 }
 
 void Progress::set_fraction(double f) {
+    f = m_from + f * (m_to - m_from);
     if (m_observer) m_observer(f);
     if (!m_enabled) return;
     std::lock_guard<std::mutex> lock(m_mutex);

@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "core/rng.h"
 #include "manylight/vpl_sampler.h"
 
 namespace ml {
@@ -124,8 +125,30 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
     return m;
 }
 
-void ManyLightSettings::use_render_seed(uint64_t render_seed) {
-    lights.seed = explicit_seed.value_or(render_seed);
+void ManyLightSettings::use_render_seed(uint64_t seed) {
+    lights.seed = explicit_seed.value_or(seed);
+    render_seed = lights.seed;
+    // A render after one that took fewer VPLs for its later sets asks for the count again.
+    if (first_vpl_request > 0) lights.vpl_count = first_vpl_request;
+    first_vpl_request = 0;
+}
+
+bool ManyLightSettings::use_set(int64_t index, const PointLightSet& first) {
+    if (!set_per_pass || index == 0) return false;
+    lights.seed = hash_ints(render_seed, uint64_t(index));
+    if (index == 1 && lights.vpl_budget.seconds > 0) {
+        first_vpl_request = first.vpl_count_requested;
+        lights.vpl_count = std::min(lights.vpl_count, int(first.vpls));
+        lights.vpl_budget = VplBudget{};
+    }
+    return true;
+}
+
+void read_vpl_sets(const Settings& s, ManyLightSettings* settings) {
+    const std::string sets = s.get_string("vpl.sets", "pass");
+    if (sets != "pass" && sets != "one")
+        throw UsageError("vpl.sets must be pass or one, not " + sets);
+    settings->set_per_pass = sets == "pass";
 }
 
 namespace {
@@ -153,6 +176,8 @@ void ManyLightSettings::use_time_limit(const RenderContext& ctx, bool with_tree)
 void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
                        SampledDirectLight* direct) {
     *set = build_point_light_set(scene, settings.lights);
+    // A later set (use_set) reports the count the user asked for, as the first did.
+    if (settings.first_vpl_request > 0) set->vpl_count_requested = settings.first_vpl_request;
     *direct = settings.lights.sampled_direct
                   ? SampledDirectLight(scene, settings.direct_samples, settings.direct_mis)
                   : SampledDirectLight();
@@ -165,7 +190,7 @@ std::string capped_cut_warning(const std::string& integrator, const char* what, 
         return fmt::format(
             "{0}: to end a pass within --time-limit, cuts stopped at {3} (not {0}.max_cut, {4}); "
             "{1:.0f}% of {2} reached it, where the error is not bounded by {0}.error (more "
-            "noise, and spikes split away): a longer time limit lifts the cap",
+            "noise): a longer time limit lifts the cap",
             integrator, 100 * capped, what, time_cap, max_cut);
     return fmt::format(
         "{0}: {1:.0f}% of {2} reached {0}.max_cut ({3}), where the error is not bounded by "

@@ -32,12 +32,19 @@ struct ManyLightSettings {
     bool direct_mis = true;
     // vpl.seed when given; else lights.seed follows the render's seed (use_render_seed).
     std::optional<uint64_t> explicit_seed;
+    // vpl.sets: pass (true, the default) draws a new, independent point-light set and light tree
+    // for every pass (or block of samples), so that the image averages many VPL sets and its
+    // error goes to zero with time; one (false) keeps one set for the whole render, whose error
+    // (a few bright VPLs more or less) then stays in the image however long it renders.
+    bool set_per_pass = true;
+    uint64_t render_seed = 0;   // lights.seed of the first set (use_render_seed)
+    int first_vpl_request = 0;  // > 0: the first set's vpl.count, where later sets take fewer
     // The defaults of vpl.glossy, vpl.clamp and lights.direct: the measured best for `vpl`,
     // `lightcuts` and `mdlightcuts`; an integrator that needs others (bdlightcuts) passes them,
     // so that the settings listed for it are its own.
     struct Defaults {
-        const char* glossy = "diffuse";
-        float clamp = 0.2f;
+        const char* glossy = "bsdf";
+        float clamp = 0.f;
         const char* direct = "sample";
         int tree_reps = kLightTreeReps;  // 0: builds no light tree (tree.reps is not read)
     };
@@ -49,6 +56,12 @@ struct ManyLightSettings {
     // and representatives. (build_point_light_set hashes it into streams of its own, which never
     // replay the camera's samples.)
     void use_render_seed(uint64_t render_seed);
+    // With set_per_pass, makes the settings those of set `index` (0: the first, as
+    // use_render_seed left them): lights.seed hashed with the index, and from set 1 on the first
+    // set's VPL count without a time budget (the budget fitted the count once; each later set
+    // costs what the first did). `first` is the first set. Returns false (nothing changed)
+    // without set_per_pass or for index 0.
+    bool use_set(int64_t index, const PointLightSet& first);
     // Under ctx's time limit, what the VPL build may take (lights.vpl_budget, vpl_budget.h); with
     // `with_tree`, the light tree over the set counts in it (it grows with the count: the
     // standard sampler's 266k VPLs took 0.31 s, their tree 1.07 s). Call after use_render_seed.
@@ -78,6 +91,12 @@ RGB visible_point_light(const Scene& scene, const PointLightSet& set,
 // where the nearby samples' shadow rays say it is.
 RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& settings,
                            const PointLight& pl, const GatherPoint& g);
+
+// With vpl.sets=pass, the samples per pixel that one VPL set serves in the pixel integrators
+// (lightcuts, stochasticlightcuts, vpl); mdlightcuts and bdlightcuts draw one per pass.
+constexpr int64_t kPixelPassSamples = 8;
+// Reads vpl.sets (pass or one) into settings->set_per_pass.
+void read_vpl_sets(const Settings& s, ManyLightSettings* settings);
 
 // vpl.sampler and the settings of the sampler it names (manylight/vpl_sampler.h).
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* options);

@@ -51,7 +51,7 @@ CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest,
         plan.samples_scale = 0;  // as few samples as a pass can take
         return plan;
     }
-    // A cut stopped at cap c still splits past it (up to 2c pairs, and spikes): it ends at about
+    // A cut stopped at cap c may end a little past it (lightcuts' last split): it ends at about
     // `overshoot` times c, as the visit at `lowest` measured.
     const double overshoot = std::max(1.0, probe.low_mean_size / double(lowest));
     auto mean_size = [&](int cap) {
@@ -138,16 +138,19 @@ int last_pass_cap(const LastPass& plan, double mean_size, int cap) {
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<void(Point2i pixel, int first, int samples)>& fn,
-    const std::function<void(const LastPass& plan)>& last,
-    const std::function<void()>& after_first) {
+    const std::function<void(const LastPass& plan)>& last, const std::function<void()>& after_first,
+    const std::function<void(int64_t pass)>& begin_pass) {
     const int64_t n = pass_samples, passes = (int64_t(ctx.spp) + n - 1) / n;
     const double start = ctx.elapsed();
     SamplePasses out;
     // Passes [from, from + count), each pixel taking its passes in order.
     auto run = [&](int64_t from, int64_t count) {
-        return render_pixels(ctx, count, [&](Point2i pixel, int64_t p0, int64_t p1) {
+        auto shade = [&](Point2i pixel, int64_t p0, int64_t p1) {
             for (int64_t p = from + p0; p < from + p1; ++p) fn(pixel, int(p * n), int(n));
-        });
+        };
+        if (!begin_pass) return render_pixels(ctx, count, shade);
+        return render_pixel_blocks(
+            ctx, count, 1, [&](int64_t b) { begin_pass(from + b); }, shade);
     };
     if (after_first && passes > 1) {
         out.whole = run(0, 1);
@@ -175,6 +178,7 @@ SamplePasses render_sample_passes(
     if (k <= 0) return out;
     plan.samples = int(k);
     if (last) last(plan);
+    if (begin_pass) begin_pass(out.whole);
     const int first = int(out.samples);
     if (render_pixels(ctx, 1, [&](Point2i pixel, int64_t, int64_t) { fn(pixel, first, int(k)); }) ==
         1) {

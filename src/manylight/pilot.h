@@ -39,10 +39,7 @@ inline float cut_tolerance(float error, const RGB& estimate, float floor_luminan
 // Under a time limit: the cut cap that lets one pass over the film end in `seconds`. A cut's
 // cost grows with its size; the full cuts of a pass over a large film (the kitchen at 320x180
 // with mdlightcuts' defaults: about 35 CPU s) need not fit a short limit, and a pass cut short
-// leaves pixels black. A cut stopped at a cap estimates the same sum, with more noise; but past
-// the cap the cut splits the pairs whose estimate is a spike (product_cut.cpp), which takes a
-// little of rare representatives' light away: the kitchen at cap 64 is about 1% darker than at
-// max_cut 1000 (bench/RESULTS.md, "Issue 13, session 10").
+// leaves pixels black. A cut stopped at a cap estimates the same sum, with more noise.
 struct CutCapPlan {
     int cap = 0;                // the cap the pass should use, in [lowest, max_cut]
     double full_seconds = 0;    // one pass's predicted wall time at max_cut
@@ -106,12 +103,15 @@ struct SamplePasses {
 // Before the last pass, last(plan) tells the integrator its shape (its cuts' share of the mean
 // size: the integrator sets the cap its fn uses from its own figures of the whole passes). With
 // `after_first`, the first pass runs over the whole film (on every rank) before any other
-// starts, and after_first() runs between them (adaptive sampling from the first pass).
+// starts, and after_first() runs between them (adaptive sampling from the first pass). With
+// `begin_pass`, every pass (the last one too) is begun by begin_pass(p), p = 0, 1, ..., once the
+// pass before has ended on every pixel (render_pixel_blocks): the integrator's new VPL set.
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<void(Point2i pixel, int first, int samples)>& fn,
     const std::function<void(const LastPass& plan)>& last = {},
-    const std::function<void()>& after_first = {});
+    const std::function<void()>& after_first = {},
+    const std::function<void(int64_t pass)>& begin_pass = {});
 
 // The share of the time left that a time-limited render plans its first pass to take.
 constexpr double kFirstPassTimeShare = 0.75;
@@ -137,7 +137,7 @@ struct CutProbe {
 // The largest cap in [lowest, max_cut] that a pass over `film_pixels` pixels is predicted to
 // finish in `seconds`: a pixel's time is taken as a + b * (its cut size), fitted to the probe's
 // two visits, and a cap c as making each probed cut min(size at max_cut, r c), r the ratio of
-// the mean cut at `lowest` to `lowest` (a capped cut still splits spikes past its cap). max_cut
+// the mean cut at `lowest` to `lowest` (a cut may end a little past its cap). max_cut
 // when the full cuts fit; `lowest` when nothing does or the probe has no figure.
 CutCapPlan choose_cut_cap(const CutProbe& probe, double film_pixels, int lowest, int max_cut,
                           double seconds);

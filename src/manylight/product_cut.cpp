@@ -30,8 +30,6 @@ float error_bound(const RGB& value_bound, const RGB& estimate) {
     return bound_luminance(b);
 }
 
-constexpr float kSpikeFraction = 0.25f;
-
 // The sum of the clustered pairs' bounds, infinite ones counted apart (an infinite bound added
 // and taken out again would leave NaN).
 struct BoundSums {
@@ -304,18 +302,16 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
              m_cut.size());
     }
 
-    // 2. Refine the pair with the largest bound until every bound is within the error.
-    while (!m_heap.empty() && int(m_cut.size()) < 2 * max_cut) {
+    // 2. Refine the pair with the largest bound until every bound is within the error, or the
+    // cut has max_cut pairs. The cap stops refining whatever the estimates are: a rule that went
+    // on splitting the pairs whose estimate was a spike (a rare representative scaled to its
+    // whole cluster) took light away on average, since it split the high draws and kept the low
+    // ones (the classroom was 10% dark at a cut of 300 with it: bench/RESULTS.md, "Many-light
+    // images that converge"). The spikes are noise the later passes average away.
+    while (!m_heap.empty() && int(m_cut.size()) < max_cut) {
         float top = m_heap.front().bound;
         float tolerance = cut_tolerance(error, total, floor_luminance);
         if (top <= 0.f) break;
-        // At max_cut pairs only a pair whose bound is a large part of the pixel's estimate is
-        // still split (up to twice as many pairs): a rare representative scaled to its whole
-        // cluster makes a spike (an estimate up to ~100x the pair's value), which a cut stopped
-        // at its cap would keep, a firefly in the image. On glossy receivers the loose bounds of
-        // many pairs are far above their values (kitchen: 10 to 14 against 0.04), the cut runs
-        // to 2 max_cut in no useful order and a spike may survive it: step 4 splits those.
-        if (int(m_cut.size()) >= max_cut && !(top > kSpikeFraction * total.luminance())) break;
         if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
         std::pop_heap(m_heap.begin(), m_heap.end());
         size_t slot = size_t(m_heap.back().slot);
@@ -336,27 +332,6 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
             }
         }
         split(p, slot);
-    }
-    // 4. Spikes left by the cap: a pair whose estimate alone is a large part of the pixel's (a
-    // rare representative scaled to its whole cluster, far above its value on a glossy receiver
-    // whose loose bounds filled the cut) is split until none is, or a budget of splits is spent.
-    // It picks pairs by estimate, not by bound, so the loose bounds of the rest do not hide it.
-    if (int(m_cut.size()) >= max_cut) {
-        for (int budget = 64; budget > 0; --budget) {
-            size_t worst = m_cut.size();
-            float worst_lum = kSpikeFraction * total.luminance();
-            for (size_t i = 0; i < m_cut.size(); ++i) {
-                const ProductPair& p = m_cut[i];
-                bool exact = gtree.node(p.gather).is_leaf() && m_tree.node(p.light).is_leaf();
-                float lum = p.estimate.luminance();
-                if (!exact && lum > worst_lum) worst = i, worst_lum = lum;
-            }
-            if (worst == m_cut.size()) break;
-            ProductPair p = m_cut[worst];
-            total = total - p.estimate;
-            sums.add(p.bound, -1);
-            split(p, worst);
-        }
     }
     // Sum the cut afresh: the running total drifts by float cancellation.
     RGB L;

@@ -48,7 +48,8 @@ std::vector<float> neighbour_sample_shares(int width, int height,
 SamplePasses render_adaptive_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<float(Point2i pixel, int first, int samples)>& fn,
-    const std::function<void(const LastPass& plan)>& last, float* max_share) {
+    const std::function<void(const LastPass& plan)>& last, float* max_share,
+    const std::function<void(int64_t pass)>& begin_pass) {
     const int w = ctx.film.width(), h = ctx.film.height();
     const size_t n = size_t(w) * size_t(h);
     std::vector<float> variance(n, 0.f), shares(n, 1.f);
@@ -77,7 +78,7 @@ SamplePasses render_adaptive_passes(
         if (max_share && !shares.empty())
             *max_share = *std::max_element(shares.begin(), shares.end());
     };
-    return render_sample_passes(ctx, pass_samples, fixed_share, pass, last, plan);
+    return render_sample_passes(ctx, pass_samples, fixed_share, pass, last, plan, begin_pass);
 }
 
 }  // namespace ml

@@ -43,10 +43,12 @@ inline float relative_variance(float variance, float value) {
 // samples (at least 1 each), its samples numbered on from its last: an integrator whose pass
 // has a noise of its own (bdlightcuts' cut, one per pass) averages more of it where the pixel
 // is noisy. Across ranks, the first pass's variances are summed and broadcast, so that every
-// rank plans the same shares. `max_share`, if given, receives the largest share.
+// rank plans the same shares. `max_share`, if given, receives the largest share. `begin_pass` as
+// render_sample_passes takes it.
 SamplePasses render_adaptive_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<float(Point2i pixel, int first, int samples)>& fn,
-    const std::function<void(const LastPass& plan)>& last = {}, float* max_share = nullptr);
+    const std::function<void(const LastPass& plan)>& last = {}, float* max_share = nullptr,
+    const std::function<void(int64_t pass)>& begin_pass = {});
 
 }  // namespace ml

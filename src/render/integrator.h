@@ -102,6 +102,11 @@ public:
     // Radiance arriving along `ray`.
     virtual RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
                    Point2i pixel) const = 0;
+    // With blocks of samples (> 0; 0, the default: none), the samples run in blocks of this
+    // many per pixel, and begin_block(b) runs before block b once block b - 1 has ended on every
+    // pixel (render_pixel_blocks): for state the integrator draws anew per block (VPL sets).
+    virtual int64_t block_samples() const { return 0; }
+    virtual void begin_block(const RenderContext& ctx, int64_t block) {}
 };
 
 }  // namespace ml

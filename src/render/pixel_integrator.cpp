@@ -33,7 +33,7 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
         return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
     });
     RenderResult result;
-    result.spp = int(render_pixels(ctx, ctx.spp, [&](Point2i pixel, int64_t s0, int64_t s1) {
+    auto shade = [&](Point2i pixel, int64_t s0, int64_t s1) {
         ThreadState& ts = states.local();
         Sampler& sampler = *ts.sampler;
         for (int64_t s = s0; s < s1; ++s) {
@@ -44,7 +44,12 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
             ctx.film.add_sample(pixel, L, weight);
             ts.scratch.reset();
         }
-    }));
+    };
+    const int64_t block = block_samples();
+    result.spp =
+        int(block > 0 ? render_pixel_blocks(
+                            ctx, ctx.spp, block, [&](int64_t b) { begin_block(ctx, b); }, shade)
+                      : render_pixels(ctx, ctx.spp, shade));
     return result;
 }
 

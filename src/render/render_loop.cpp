@@ -61,6 +61,35 @@ int64_t render_pixels(const RenderContext& ctx, int64_t units,
     });
 }
 
+int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t block,
+                            const std::function<void(int64_t b)>& begin_block,
+                            const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn) {
+    ML_ASSERT(block > 0, "render_pixel_blocks needs blocks of at least one unit");
+    const double start = ctx.elapsed();
+    int64_t done = 0;
+    for (int64_t b = 0; done < units; ++b) {
+        if (ctx.time_limit > 0 && done > 0) {
+            const double per_unit = (ctx.elapsed() - start) / double(done);
+            int64_t go = per_unit <= kRoundTimeShare * (ctx.time_limit - ctx.elapsed()) ? 1 : 0;
+            if (ctx.ranks() > 1) go = ctx.world->all_min(go);
+            if (!go) break;
+        }
+        begin_block(b);
+        const int64_t first = done, n = std::min(block, units - done);
+        // (Under a time limit the fraction is the time's, which needs no span.)
+        if (ctx.progress && !(ctx.time_limit > 0))
+            ctx.progress->set_span(double(first) / double(units),
+                                   double(first + n) / double(units));
+        const int64_t ran = render_pixels(ctx, n, [&](Point2i pixel, int64_t u0, int64_t u1) {
+            fn(pixel, first + u0, first + u1);
+        });
+        done += ran;
+        if (ran < n) break;
+    }
+    if (ctx.progress) ctx.progress->set_span(0, 1);
+    return done;
+}
+
 int64_t render_rows(const RenderContext& ctx, int64_t units,
                     const std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>& fn) {
     const int w = ctx.film.width(), h = ctx.film.height();

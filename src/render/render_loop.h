@@ -67,6 +67,16 @@ void report_progress(const RenderContext& ctx, double work_fraction);
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
                       const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
 
+// render_pixels in blocks of `block` units, each begun by begin_block(b) (b = 0, 1, ...) once
+// the last block has ended on every pixel: for integrators that shade each block with state of
+// its own (a new VPL set for every pass of samples). Under a time limit a block after the first
+// begins only where the mean time of a unit so far (begin_block's included) fits
+// kRoundTimeShare of the time left; a block the limit cuts short ends the loop. Returns the
+// units done.
+int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t block,
+                            const std::function<void(int64_t b)>& begin_block,
+                            const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
+
 // The same loop a row of a tile at a time: fn(y, x0, x1, u0, u1) runs units [u0, u1) of the
 // pixels x0 <= x < x1 of row y (at most 8 of them), in an order of its choosing, for integrators
 // that shade neighbouring pixels together (igi: one shadow-ray packet per light for the row).

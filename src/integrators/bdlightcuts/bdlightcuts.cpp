@@ -105,14 +105,15 @@ public:
     // channels of the BSDFs' values): a cluster pair at most C_clamp (the VSP node's strength)
     // (the light node's flux).
     RGB cluster_bound(const GatherTreeNode& g, int32_t light_node) const override {
-        if (!m_o.clamp || node_flux.empty()) return RGB(kInfinity);
-        const RGB& phi = node_flux[size_t(light_node)];
+        if (!m_o.clamp || !node_flux || node_flux->empty()) return RGB(kInfinity);
+        const RGB& phi = (*node_flux)[size_t(light_node)];
         RGB b;
         for (int c = 0; c < 3; ++c)
             b[c] = (g.strength[c] == 0 || phi[c] == 0) ? 0.f : m_o.c_clamp * g.strength[c] * phi[c];
         return b;
     }
-    std::vector<RGB> node_flux;  // per light-tree node: its lights' summed flux
+    // Per light-tree node: its lights' summed flux (the integrator's, redone with each set).
+    const std::vector<RGB>* node_flux = nullptr;
 
 private:
     const PointLightSet& m_set;
@@ -148,6 +149,33 @@ private:
     float m_prefix, m_pending_mt, m_pending_mu;
 };
 
+// Each light node's flux, children before parents (whatever order the tree stores them).
+std::vector<RGB> light_node_flux(const PointLightSet& set, const LightTree& tree) {
+    std::vector<RGB> node_flux(tree.node_count());
+    std::vector<uint8_t> summed(tree.node_count(), 0);
+    for (PointLightKind kind : kAllPointLightKinds) {
+        if (tree.root(kind) < 0) continue;
+        std::vector<int32_t> stack{tree.root(kind)};
+        while (!stack.empty()) {
+            int32_t n = stack.back();
+            const LightTreeNode& L = tree.node(n);
+            if (L.is_leaf()) {
+                node_flux[size_t(n)] = light_flux(set, set.lights[size_t(tree.light(n))]);
+            } else if (!summed[size_t(L.children()[0])] || !summed[size_t(L.children()[1])]) {
+                for (int32_t c : L.children())
+                    if (!summed[size_t(c)]) stack.push_back(c);
+                continue;
+            } else {
+                node_flux[size_t(n)] =
+                    node_flux[size_t(L.children()[0])] + node_flux[size_t(L.children()[1])];
+            }
+            summed[size_t(n)] = 1;
+            stack.pop_back();
+        }
+    }
+    return node_flux;
+}
+
 }  // namespace
 
 struct BdLightcutsIntegrator::ThreadState {
@@ -171,6 +199,7 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // and no clamping: the split weights do what those settings do for `vpl`.
     // lights.direct defaults to sample: bench/RESULTS.md, "Issue 17, session 14".
     m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample", kTreeReps});
+    read_vpl_sets(settings, &m_settings);
     // lights.direct=sample: the split that joins a VSP to an emitter by a light sample at the
     // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
     // in the cut (the delta lights stay points).
@@ -391,37 +420,20 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
-    build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
     if (m_rest_path || m_emission_mis || m_direct_sample)
         m_nee_lights = std::make_unique<LightSampler>("tree", ctx.scene.lights());
-    m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
+    // The point-light set, its tree and each light node's flux: the first pass's, then each
+    // pass's own (vpl.sets=pass), made between passes while no thread shades.
+    auto build_set = [&] {
+        build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
+        m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
+        m_node_flux = light_node_flux(m_set, m_tree);
+    };
+    build_set();
     m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0, m_rests = 0;
-    // Each light node's flux, children before parents (whatever order the tree stores them).
-    std::vector<RGB> node_flux(m_tree.node_count());
-    std::vector<uint8_t> summed(m_tree.node_count(), 0);
-    for (PointLightKind kind : kAllPointLightKinds) {
-        if (m_tree.root(kind) < 0) continue;
-        std::vector<int32_t> stack{m_tree.root(kind)};
-        while (!stack.empty()) {
-            int32_t n = stack.back();
-            const LightTreeNode& L = m_tree.node(n);
-            if (L.is_leaf()) {
-                node_flux[size_t(n)] = light_flux(m_set, m_set.lights[size_t(m_tree.light(n))]);
-            } else if (!summed[size_t(L.children()[0])] || !summed[size_t(L.children()[1])]) {
-                for (int32_t c : L.children())
-                    if (!summed[size_t(c)]) stack.push_back(c);
-                continue;
-            } else {
-                node_flux[size_t(n)] =
-                    node_flux[size_t(L.children()[0])] + node_flux[size_t(L.children()[1])];
-            }
-            summed[size_t(n)] = 1;
-            stack.pop_back();
-        }
-    }
     ThreadLocal<ThreadState> states([&] {
         SplitWeighting w(m_set, m_weights, m_settings.max_depth);
-        w.node_flux = node_flux;
+        w.node_flux = &m_node_flux;
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings),
                            std::move(w));
     });
@@ -462,6 +474,9 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     // the first pass's variance of the eye paths' part; a high share as several passes, whose
     // cuts' noise then averages too (bench/RESULTS.md, "Issue 17, session 17").
     float max_share = 1;
+    auto begin_pass = [&](int64_t pass) {
+        if (m_settings.use_set(pass, m_set)) build_set();
+    };
     const SamplePasses done_passes =
         m_adaptive
             ? render_adaptive_passes(
@@ -470,11 +485,11 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                       PassEstimate e = shade(pixel, first, samples);
                       return relative_variance(e.known_variance, e.value.luminance());
                   },
-                  last, &max_share)
+                  last, &max_share, begin_pass)
             : render_sample_passes(
                   ctx, m_pass_samples, cap_plan.fixed_share,
                   [&](Point2i pixel, int first, int samples) { shade(pixel, first, samples); },
-                  last);
+                  last, {}, begin_pass);
     const int done = int(done_passes.whole);
 
     RenderResult result;

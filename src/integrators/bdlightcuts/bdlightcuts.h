@@ -110,6 +110,7 @@ private:
     bool m_adaptive = true;
     PointLightSet m_set;
     LightTree m_tree;
+    std::vector<RGB> m_node_flux;  // per light-tree node: its lights' summed flux
     double m_tree_seconds = 0;
     mutable std::atomic<uint64_t> m_pair_sum{0}, m_pixel_passes{0}, m_vsps{0}, m_capped{0},
         m_rests{0};

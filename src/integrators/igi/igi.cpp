@@ -78,7 +78,8 @@ IgiSettings IgiSettings::read(const Settings& s) {
 }
 
 IgiIntegrator::IgiIntegrator(const Settings& settings)
-    : m_many(ManyLightSettings::read(settings, {.tree_reps = 0})),
+    : m_many(
+          ManyLightSettings::read(settings, {.glossy = "diffuse", .clamp = 0.2f, .tree_reps = 0})),
       m_igi(IgiSettings::read(settings)) {
     // igi.vpls, or the vpl.count the other many-light integrators read (under igi's default);
     // both only if they agree. vpl.count is read last, so that its default listed for igi

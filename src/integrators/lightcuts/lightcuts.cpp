@@ -18,6 +18,7 @@ namespace ml {
 
 LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
+    read_vpl_sets(settings, &m_settings);
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
     m_verify = settings.get_bool("verify", false);

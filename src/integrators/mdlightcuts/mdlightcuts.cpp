@@ -30,6 +30,7 @@ struct MdLightcutsIntegrator::ThreadState {
 
 MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
+    read_vpl_sets(settings, &m_settings);
     m_samples = settings.get_int("samples", m_samples);
     m_error = settings.get_float("error", m_error);
     m_max_cut = settings.get_int("max_cut", m_max_cut);
@@ -95,6 +96,10 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
                 last,
                 double(m_pair_sum.load()) / double(std::max<uint64_t>(1, m_pixel_passes.load())),
                 m_pass_cap);
+        },
+        {},
+        [&](int64_t pass) {
+            if (m_settings.use_set(pass, m_set)) prepare(ctx.scene);
         });
     const int done = int(done_passes.whole);
 

@@ -13,6 +13,7 @@ namespace ml {
 
 StochasticLightcutsIntegrator::StochasticLightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
+    read_vpl_sets(settings, &m_settings);
     m_cut = settings.get_int("cut", m_cut);
     if (m_cut < 1) throw UsageError("stochasticlightcuts.cut must be >= 1");
 }

@@ -30,6 +30,13 @@ public:
     RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
            Point2i pixel) const override;
     RenderResult render(const RenderContext& ctx) override;
+    // vpl.sets=pass: a new VPL set every kPixelPassSamples samples (many_lights.h).
+    int64_t block_samples() const override {
+        return m_settings.set_per_pass ? kPixelPassSamples : 0;
+    }
+    void begin_block(const RenderContext& ctx, int64_t block) override {
+        if (m_settings.use_set(block, m_set)) prepare(ctx.scene);
+    }
 
 private:
     // The radiance the point lights give at g (times g.beta); *cut_size receives the number of

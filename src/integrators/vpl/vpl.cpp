@@ -5,7 +5,9 @@
 namespace ml {
 
 VplIntegrator::VplIntegrator(const Settings& settings)
-    : m_settings(ManyLightSettings::read(settings, {.tree_reps = 0})) {}
+    : m_settings(ManyLightSettings::read(settings, {.tree_reps = 0})) {
+    read_vpl_sets(settings, &m_settings);
+}
 
 void VplIntegrator::prepare(const Scene& scene) {
     build_many_lights(scene, m_settings, &m_set, &m_direct);
