@@ -17,14 +17,14 @@
 namespace ml {
 
 void add_render_command(CLI::App& app, RenderArgs& a) {
-    std::vector<std::string> integrators;
-    for (const IntegratorInfo& info : integrator_registry()) integrators.push_back(info.name);
+    const std::vector<std::string> integrators = integrator_names();
     CLI::App* r = app.add_subcommand("render", "render a pbrt-v4 scene (default: the Cornell box)");
     r->add_option("scene", a.scene, "scene file (.pbrt); none: the built-in Cornell box");
     r->add_option("-o,--output", a.output, "output image: .exr, .png or .pfm")
         ->check(output_image());
     r->add_option("--integrator", a.integrator,
-                  "one of: " + fmt::format("{}", fmt::join(integrators, ", ")))
+                  "one of: " + fmt::format("{}", fmt::join(integrators, ", ")) + " (" +
+                      kManyLightAlias + ": " + kRecommendedManyLight + ")")
         ->check(one_of(integrators, "integrator"));
     r->add_option("--spp", a.spp, "samples per pixel")->check(positive_integer());
     r->add_option("--max-depth", a.max_depth, "maximum path depth")->check(non_negative_integer());

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "film/image.h"
+#include "integrators/registry.h"
 
 namespace fs = std::filesystem;
 
@@ -190,6 +191,25 @@ TEST_F(Cli, UnknownIntegratorListsTheValidNames) {
     for (const char* name : {"path", "bdpt", "vpl", "lightcuts", "mdlightcuts", "pssmlt"})
         EXPECT_NE(r.output.find(name), std::string::npos) << name << ": " << r.output;
     EXPECT_NE(r.output.find("unknown integrator \"nosuch\""), std::string::npos) << r.output;
+}
+
+// `--integrator manylight` is the recommended many-light integrator, under its own name and
+// settings: the same image as naming it.
+TEST_F(Cli, ManylightNamesTheRecommendedIntegrator) {
+    std::string scene = write("tiny.pbrt", kTinyScene);
+    const std::string common = " --spp 2 -q --set vpl.count=64 --set " +
+                               std::string(ml::kRecommendedManyLight) + ".samples=2 ";
+    Result a = run("render " + scene + " --integrator manylight" + common + "-o " + path("a.exr") +
+                   " --stats " + path("s.json"));
+    ASSERT_EQ(a.code, 0) << a.output;
+    std::ifstream js(path("s.json"));
+    EXPECT_EQ(nlohmann::json::parse(js).at("integrator"), ml::kRecommendedManyLight);
+    Result b = run("render " + scene + " --integrator " + ml::kRecommendedManyLight + common +
+                   "-o " + path("b.exr"));
+    ASSERT_EQ(b.code, 0) << b.output;
+    Result d = run("diff --json " + path("a.exr") + " " + path("b.exr"));
+    ASSERT_EQ(d.code, 0) << d.output;
+    EXPECT_EQ(nlohmann::json::parse(d.output.substr(d.output.find('{'))).at("rmse"), 0.0);
 }
 
 TEST_F(Cli, OutputInAMissingFolderNamesTheUsersPath) {

@@ -70,9 +70,21 @@ const std::vector<IntegratorInfo>& integrator_registry() {
     return table;
 }
 
+std::string resolve_integrator_alias(const std::string& name) {
+    return name == kManyLightAlias ? kRecommendedManyLight : name;
+}
+
+std::vector<std::string> integrator_names() {
+    std::vector<std::string> names;
+    for (const IntegratorInfo& info : integrator_registry()) names.push_back(info.name);
+    names.push_back(kManyLightAlias);
+    return names;
+}
+
 const IntegratorInfo* find_integrator(const std::string& name) {
+    const std::string resolved = resolve_integrator_alias(name);
     for (const IntegratorInfo& info : integrator_registry())
-        if (info.name == name) return &info;
+        if (info.name == resolved) return &info;
     return nullptr;
 }
 

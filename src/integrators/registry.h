@@ -19,7 +19,16 @@ struct IntegratorInfo {
 };
 
 const std::vector<IntegratorInfo>& integrator_registry();
-// Null if no integrator has that name.
+// `--integrator manylight`: the many-light integrator our measurements recommend for a scene
+// we know nothing of (bench/RESULTS.md, "Many-light images that converge"). Its settings keep
+// the integrator's own names (bdlightcuts.samples).
+inline constexpr const char* kManyLightAlias = "manylight";
+inline constexpr const char* kRecommendedManyLight = "bdlightcuts";
+// `name`, or the integrator the alias `manylight` stands for.
+std::string resolve_integrator_alias(const std::string& name);
+// The names --integrator takes: the registry's and the alias.
+std::vector<std::string> integrator_names();
+// Null if no integrator has that name (the alias names the recommended one).
 const IntegratorInfo* find_integrator(const std::string& name);
 // The settings `info`'s integrator reads, each with its default, in the order it reads them: the
 // integrator is made from Settings that record what it asks for (Settings::record_defaults), so

@@ -143,6 +143,7 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     std::string scene_integrator = integrator_for_pbrt_name(desc.integrator.name);
     std::string name = opt.integrator;
     if (name.empty()) name = scene_integrator.empty() ? "path" : scene_integrator;
+    name = resolve_integrator_alias(name);
     if (opt.integrator.empty() && !desc.integrator.name.empty() && scene_integrator.empty())
         plan.warnings.push_back(fmt::format(
             "{}: the scene asks for integrator \"{}\", which manylight does not have; rendering "
