@@ -43,8 +43,9 @@ struct ClusterSample {
 class ClusterSampler {
 public:
     ClusterSampler() = default;
-    // Keeps a pointer to `tree` (its directional nodes), which must outlive the sampler.
-    explicit ClusterSampler(const LightTree& tree);
+    // Keeps a pointer to `tree` (its directional nodes), which must outlive the sampler; `lights`
+    // are the tree's lights (the cones of spot lights among them).
+    ClusterSampler(const LightTree& tree, const std::vector<PointLight>& lights);
 
     // The importance of node i (an index of the tree) at the view.
     float importance(int32_t i, const ClusterView& view) const;
