@@ -182,9 +182,9 @@ int check_cluster_pmfs(const std::vector<PointLight>& lights,
 }  // namespace
 
 TEST(StochasticLightcuts, ClusterPmfSumsToOneAndMatchesItsSamples) {
-    EXPECT_EQ(check_cluster_pmfs(mixed_lights(400, 3),
-                                 {PointLightKind::Omni, PointLightKind::Oriented}),
-              24);
+    EXPECT_EQ(
+        check_cluster_pmfs(mixed_lights(400, 3), {PointLightKind::Omni, PointLightKind::Oriented}),
+        24);
 }
 
 // Spot lights: the pmf follows their cones (zero for a spot whose cone misses the point, never
@@ -251,8 +251,9 @@ TEST(StochasticLightcuts, ClustersThatCannotLightThePointAreNotDescended) {
     }
     LightTree away(lights);
     ClusterView view{Vec3(0, 0, 0), Vec3(0, 1, 0), true};
-    EXPECT_EQ(ClusterSampler(away, lights).sample(away.root(PointLightKind::Oriented), view, 0.3f).light,
-              -1);
+    EXPECT_EQ(
+        ClusterSampler(away, lights).sample(away.root(PointLightKind::Oriented), view, 0.3f).light,
+        -1);
     for (PointLight& pl : lights) pl.n = Vec3(0, 1, 0);
     LightTree facing(lights);
     ClusterSample s =
