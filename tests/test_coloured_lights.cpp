@@ -187,6 +187,36 @@ std::string coloured_cornell_scene() {
     return s;
 }
 
+// A stage lit by 64 coloured spot lights (issue 34, item 5): from a rig at height 1.5 over a
+// grey floor, each aimed at its own random point of the floor with a cone of 10 to 25 degrees,
+// so that from most points of the floor most spots face away (bench/spot_stage_scene.py is the
+// larger one of bench/stochastic_spots.md).
+std::string spot_stage_scene() {
+    std::string s = R"(LookAt 0 3 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 50 ]
+Sampler "independent"
+WorldBegin
+AttributeBegin
+  Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+  Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
+    "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ]
+AttributeEnd
+)";
+    Rng rng(34);
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) {
+            RGB c(rng.next_float(), rng.next_float(), rng.next_float());
+            c[(i + j) % 3] = 0;
+            float tx = 4 * rng.next_float() - 2, tz = 4 * rng.next_float() - 2;
+            float cone = 10 + 15 * rng.next_float();
+            s += fmt::format(
+                "LightSource \"spot\" \"rgb I\" [ {} {} {} ] \"point3 from\" [ {} 1.5 {} ] "
+                "\"point3 to\" [ {} 0 {} ] \"float coneangle\" [ {} ] \"float conedelta\" [ 3 ]\n",
+                c.r, c.g, c.b, -2 + 4 * (i + 0.5) / 8, -2 + 4 * (j + 0.5) / 8, tx, tz, cone);
+        }
+    return s;
+}
+
 struct Case {
     std::string integrator;
     std::map<std::string, std::string> set;
@@ -274,4 +304,17 @@ TEST(ColouredLights, ColouredCornellBoxMatchesTheExactSum) {
                                                        {"lights.area_count", "64"}};
     for (const Case& c : cases())
         expect_unbiased_against_vpl(coloured_cornell_scene(), c, 12, 16, lights);
+}
+
+// Spot lights are omni lights with a cone: the unbiased estimators' expectation is the exact sum
+// over them, and stochastic lightcuts' descents follow their cones (cluster_sampling.cpp). The
+// cuts that stop at an error bound are left out: mdlightcuts is +1.2% (standard error 0.3%)
+// here, a bias of its own (issue 34).
+TEST(ColouredLights, SpotStageMatchesTheExactSum) {
+    const std::vector<Case> unbiased = {
+        {"lightcuts", {{"lightcuts.error", "0"}, {"lightcuts.max_cut", "24"}, {"vpl.clamp", "0"}}},
+        {"stochasticlightcuts", {{"stochasticlightcuts.cut", "4"}}},
+        {"stochasticlightcuts", {}}};
+    for (const Case& c : unbiased)
+        expect_unbiased_against_vpl(spot_stage_scene(), c, 16, 16, kPointLightsOnly);
 }

@@ -11,7 +11,11 @@
 // centre kept at least the sphere's squared radius. The cosine bounds are conservative: zero
 // only where no light of the node can give x any light, so no light that contributes is ever
 // given probability 0, which is what makes the estimate unbiased. Directional lights (no
-// position) use the cone of their directions and the receiver's cosine bound of bounds.h.
+// position) use the cone of their directions and the receiver's cosine bound of bounds.h. Spot
+// lights (omni lights with a cone) bound their emission as pbrt-v4's SpotLight does (theta_o the
+// inner cone, theta_e the falloff band), unioned up the tree: a cluster of spots aimed away from
+// x has no importance there (the light tree's own omni cones, which Lightcuts' bounds read, stay
+// the whole sphere).
 //
 // What a descent reads of each node is kept in a 64-byte node of its own, children side by side
 // as in the tree, so that a step reads two adjacent cache lines and not the tree's large nodes.
@@ -43,8 +47,9 @@ struct ClusterSample {
 class ClusterSampler {
 public:
     ClusterSampler() = default;
-    // Keeps a pointer to `tree` (its directional nodes), which must outlive the sampler.
-    explicit ClusterSampler(const LightTree& tree);
+    // Keeps a pointer to `tree` (its directional nodes), which must outlive the sampler; `lights`
+    // are the tree's lights (the cones of spot lights among them).
+    ClusterSampler(const LightTree& tree, const std::vector<PointLight>& lights);
 
     // The importance of node i (an index of the tree) at the view.
     float importance(int32_t i, const ClusterView& view) const;

@@ -21,7 +21,7 @@ StochasticLightcutsIntegrator::StochasticLightcutsIntegrator(const Settings& set
 void StochasticLightcutsIntegrator::prepare(const Scene& scene) {
     build_many_lights(scene, m_settings, &m_set, &m_direct);
     m_tree = build_light_tree(scene, m_settings, m_set, &m_tree_seconds);
-    m_sampler = ClusterSampler(m_tree);
+    m_sampler = ClusterSampler(m_tree, m_set.lights);
 }
 
 RenderResult StochasticLightcutsIntegrator::render(const RenderContext& ctx) {
@@ -75,9 +75,15 @@ RGB StochasticLightcutsIntegrator::shade(const Scene& scene, const GatherPoint& 
     // Lightcuts' cheap bound (the BSDF's bound over every direction): only the order of the
     // splits depends on it, and whether a node can give light at all (zero: left out).
     const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
+    const ClusterView view{x, face_forward(g.bsdf.frame().n, wo),
+                           (g.bsdf.flags() & kBxdfTransmission) != 0};
     auto add = [&](int32_t index) {
         RGB b = g.beta * loose_node_bound(m_tree.ref(index), x, m_all);
         if (b.is_black()) return;  // none of its lights can reach x through this BSDF
+        // Nor can they where the descent's importance is zero (spot lights aimed away: the
+        // bound above counts them as emitting every way). Left out, they take no place in the
+        // cut.
+        if (!(m_sampler.importance(index, view) > 0)) return;
         if (m_tree.node(index).is_leaf()) {
             singles.push_back(m_tree.light(index));
             return;
@@ -105,8 +111,6 @@ RGB StochasticLightcutsIntegrator::shade(const Scene& scene, const GatherPoint& 
     for (int32_t light : singles) L += value(light);
     if (heap.empty()) return L;
     // One light per cluster, drawn by importance (the heap's order depends on g alone).
-    ClusterView view{x, face_forward(g.bsdf.frame().n, wo),
-                     (g.bsdf.flags() & kBxdfTransmission) != 0};
     for (const Entry& e : heap) {
         ClusterSample s = m_sampler.sample(e.node, view, sampler.get_1d());
         if (s.light >= 0 && s.pmf > 0) L += value(s.light) / s.pmf;

@@ -6,8 +6,9 @@
 // shadow ray: the light's contribution over its probability. Every light that can give the
 // point light has a non-zero probability, so the estimate's expectation is exactly the `vpl`
 // sum over the same lights (with the same vpl.clamp), in every channel, with no error bound to
-// meet. Clusters whose bound is zero give nothing and are left out of the cut; single lights in
-// the cut are shaded exactly.
+// meet. Clusters whose bound or importance is zero give nothing and are left out of the cut (a
+// spot light's importance follows its cone, cluster_sampling.h); single lights in the cut are
+// shaded exactly.
 #pragma once
 
 #include <atomic>
