@@ -16,12 +16,12 @@ PssmltIntegrator::PssmltIntegrator(const Settings& settings) {
     m_params.sigma = settings.get_float(
         "sigma", 0.01f,
         {"> 0", "Standard deviation of a small step's perturbation in primary sample space."});
-    m_bootstrap = settings.get_int(
-        "bootstrap", 100000,
-        {">= 1",
-         "Bootstrap paths per depth that estimate the image's brightness and start the chains."});
+    m_bootstrap = settings.get_int("bootstrap", 100000,
+                                   {">= 1",
+                                    "Primary samples per depth whose BDPT paths estimate the "
+                                    "image's brightness; the chains start from them, resampled."});
     m_chains = settings.get_int("chains", 1000,
-                                {">= 1", "Markov chains; the mutations are shared among them."});
+                                {">= 1", "Chains in primary sample space, sharing the mutations."});
     m_estimator = settings.get_string("estimator", "bdpt",
                                       {"bdpt, path",
                                        "What turns a primary sample into a contribution: BDPT "
