@@ -55,10 +55,11 @@ def commands(text, first_line):
     for n, line in enumerate(text.splitlines(), first_line):
         if not pending:
             at = n
-        if line.rstrip().endswith("\\"):
-            pending += line.rstrip()[:-1] + " "
+        part = line.strip() if pending else line.rstrip()
+        if part.endswith("\\"):
+            pending += part[:-1].rstrip() + " "
             continue
-        cmd = (pending + line).strip()
+        cmd = (pending + part).strip()
         pending = ""
         if cmd and not cmd.startswith("#"):
             out.append((at, cmd))
