@@ -20,6 +20,7 @@ Usage: /usr/bin/python3 bench/gallery.py [--scenes kitchen,coffee,...] [--integr
 """
 import argparse
 import json
+import math
 import os
 import pathlib
 import re
@@ -72,14 +73,13 @@ def error_image(x, ref):
 
 
 def scene_size(scene, width):
-    """The render's size at the scene film's aspect: `width` wide, or for a portrait scene
-    `width` x 9/16 wide, so that every picture stays small."""
+    """The render's size at the scene film's aspect: `width` wide for 16:9 or wider."""
     text = scene.read_text(errors="replace")
     xs = re.search(r'"integer xresolution"\s*\[\s*(\d+)', text)
     ys = re.search(r'"integer yresolution"\s*\[\s*(\d+)', text)
     aspect = int(ys.group(1)) / int(xs.group(1)) if xs and ys else 9 / 16
-    if aspect > 1:
-        width = max(8, int(round(width * 9 / 16 / 2)) * 2)
+    if aspect > 9 / 16:  # as many pixels as `width` x 9/16 of it, so that pictures stay small
+        width = max(8, int(round(width * math.sqrt(9 / 16 / aspect) / 2)) * 2)
     return width, max(8, int(round(width * aspect / 2)) * 2)
 
 
