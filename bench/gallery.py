@@ -163,7 +163,10 @@ def main():
         f"{args.ref_seconds:g} seconds (seed 4242). Error images show each pixel's relative "
         "squared error, (x - r)² / (r² + 0.01) averaged over the channels, on a log scale: black "
         "10⁻⁴ or less, white 1 or more. The reference is itself noisy, so both errors include "
-        "its noise; the relMSE and channel means are `manylight diff` against it.",
+        "its noise; the relMSE and channel means are `manylight diff` against it. The times are "
+        "wall-clock: on a busy machine every render gets fewer samples, and a many-light render "
+        "that does not finish its first pass (spp 0) is black where no sample landed. Run it on "
+        "a quiet machine for figures to compare.",
         "",
         "Made by:",
         "",
