@@ -18,7 +18,7 @@ them itself (.ci/run runs scripts/test; ../shared/tools/fresh-debian runs both o
 Without ../shared the test skips (exit 77) and says so, unless MANYLIGHT_REQUIRE_SHARED=1 (CI),
 where it fails. A failure names the page, the line and the command, with the end of its output.
 
-Usage: tests/docs_commands.py --source DIR --bin PATH [--build-dir DIR] [--list]
+Usage: tests/docs_commands.py --source DIR --bin PATH [--build-dir DIR] [--list] [--page PAGE ...]
 """
 import argparse
 import os
@@ -89,10 +89,14 @@ def main():
     ap.add_argument("--bin", required=True, help="the manylight program")
     ap.add_argument("--build-dir", default="", help="where python/ (the module) was built")
     ap.add_argument("--list", action="store_true", help="print the commands, run nothing")
+    ap.add_argument("--page", action="append", default=[],
+                    help="only this page (README.md, docs/guide.md, ...; repeatable)")
     args = ap.parse_args()
     source = pathlib.Path(args.source).resolve()
     shared = pathlib.Path(os.environ.get("MANYLIGHT_SHARED_DIR") or source.parent / "shared")
     pages = [source / "README.md"] + sorted((source / "docs").glob("*.md"))
+    if args.page:
+        pages = [p for p in pages if str(p.relative_to(source)) in args.page]
 
     todo = []  # (page, line, kind, text)
     for page in pages:
