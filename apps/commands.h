@@ -36,6 +36,7 @@ int run_diff(const DiffArgs& args);
 
 struct IntegratorsArgs {
     std::string name;  // empty: all
+    bool markdown = false;
 };
 void add_integrators_command(CLI::App& app, IntegratorsArgs& args);
 int run_integrators(const IntegratorsArgs& args);

@@ -7,7 +7,7 @@ Accuracy: `bdpt` at 256x256, 256 spp (the scene's max depth 7) against pbrt-v4's
 Speed: `bdpt` at 1024x1024, 8 spp, max depth 7, 2 threads, against pbrt-v4's 172 s for the same
 on this machine kind. Goal: at most 0.6x (103 s).
 
-Prints a table and appends it with the commands to bench/RESULTS.md.
+Prints a table and appends it with the commands to bench/history/log.md (the dated log; bench/RESULTS.md keeps the current figures).
 Usage: bench/bdpt_bench.py [--quick] [--no-append] [--bin PATH]
 """
 import json
@@ -86,7 +86,7 @@ def main():
     text = "\n".join(lines)
     print(text)
     if "--no-append" not in sys.argv:
-        with open(os.path.join(ROOT, "bench", "RESULTS.md"), "a") as f:
+        with open(os.path.join(ROOT, "bench", "history", "log.md"), "a") as f:
             f.write(f"\n### {time.strftime('%Y-%m-%d')}: `bench/bdpt_bench.py{' --quick' if quick else ''}`\n\n")
             for s in (acc, tim):
                 f.write(f"    {s['cmd']}\n")

@@ -4,7 +4,7 @@
 Renders each scene with each integrator under --time-limit for every budget (seconds of render
 time: scene loading and BVH build are not counted; a Metropolis integrator's bootstrap is), then
 computes relMSE against the scene's reference with `manylight diff`, prints a table and appends
-it with the commands to bench/RESULTS.md.
+it with the commands to bench/history/log.md (the dated log; bench/RESULTS.md keeps the current figures).
 
 Usage:
   bench/equal_time.py [--budgets 30,120,480] [--scenes veach-bidir,cornell-box]
@@ -145,7 +145,7 @@ def main():
     text = "\n".join(lines)
     print(text)
     if not args.no_append:
-        with open(os.path.join(ROOT, "bench", "RESULTS.md"), "a") as f:
+        with open(os.path.join(ROOT, "bench", "history", "log.md"), "a") as f:
             f.write(f"\n### {time.strftime('%Y-%m-%d')}: `bench/equal_time.py "
                     f"{' '.join(sys.argv[1:])}`\n\n")
             for c in commands:

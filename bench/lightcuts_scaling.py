@@ -142,7 +142,7 @@ def main():
     text = "\n".join(lines)
     print(text)
     if "--no-append" not in sys.argv:
-        with open(os.path.join(ROOT, "bench", "RESULTS.md"), "a") as f:
+        with open(os.path.join(ROOT, "bench", "history", "log.md"), "a") as f:
             f.write(f"\n### {time.strftime('%Y-%m-%d')}: `bench/lightcuts_scaling.py {' '.join(sys.argv[1:])}`\n\n")
             f.write("    " + rows[0]["big"]["cmd"] + "\n\n" + text + "\n")
 

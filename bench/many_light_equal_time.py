@@ -10,7 +10,7 @@ process (load, light set, trees and render: what a user waits), relMSE
 block (whole blocks, per channel, blocks whose reference mean is at least 0.01), and whether the
 issue's goal holds (relMSE <= 0.05, every channel within 1%, no block over 10%), and how many
 pixels got no sample (a first pass the time limit cut short). Appends the table with the command
-to bench/RESULTS.md unless --no-append.
+to bench/history/log.md (the dated log; bench/RESULTS.md keeps the current figures) unless --no-append.
 
 Settings: --set KEY=VALUE (repeatable) goes to every render; an --integrators entry may carry its
 own as NAME+KEY=VALUE+... (a KEY without a dot is NAME's: bdlightcuts+rest=drop is
@@ -158,7 +158,7 @@ def main():
     table = "\n".join(lines)
     print(table)
     if not a.no_append:
-        with open(os.path.join(ROOT, "bench", "RESULTS.md"), "a") as f:
+        with open(os.path.join(ROOT, "bench", "history", "log.md"), "a") as f:
             f.write(f"\n### {time.strftime('%Y-%m-%d')}: `bench/many_light_equal_time.py "
                     f"--scenes {a.scenes} --integrators {','.join(integrators)}"
                     + "".join(f" --set {kv}" for kv in a.set)

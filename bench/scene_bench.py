@@ -3,7 +3,7 @@
 
 Runs manylight on the shared scenes at the settings pbrt-v4 and Tungsten were timed with on
 this machine kind (2 threads), prints a table, and appends it with the command to
-bench/RESULTS.md. Usage: bench/scene_bench.py [--quick] [--no-append]
+bench/history/log.md (the dated log; bench/RESULTS.md keeps the current figures). Usage: bench/scene_bench.py [--quick] [--no-append]
 """
 import json
 import os
@@ -82,7 +82,7 @@ def main():
     text = "\n".join(lines)
     print(text)
     if "--no-append" not in sys.argv:
-        with open(os.path.join(ROOT, "bench", "RESULTS.md"), "a") as f:
+        with open(os.path.join(ROOT, "bench", "history", "log.md"), "a") as f:
             f.write(f"\n### {time.strftime('%Y-%m-%d')}: `bench/scene_bench.py{' --quick' if quick else ''}`\n\n")
             for _, s, _ in rows:
                 f.write(f"    {s['cmd']}\n")

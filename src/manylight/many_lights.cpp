@@ -49,20 +49,48 @@ RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& se
 }
 
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
-    o->kind = parse_vpl_sampler(s.get_string("vpl.sampler", vpl_sampler_name(o->kind)));
+    o->kind = parse_vpl_sampler(
+        s.get_string("vpl.sampler", vpl_sampler_name(o->kind),
+                     {"standard, power, bidirectional, metropolis",
+                      "How the VPLs are made: light paths from the lights by power (standard), by "
+                      "each light's measured share of the image (power), from camera sub-paths "
+                      "joined back to the lights (bidirectional), or by a Metropolis chain over "
+                      "camera-to-light paths (metropolis; consistent, not unbiased)."}));
     // Each sampler reads only its own settings, so that another's is reported as unused.
     if (o->kind == VplSamplerKind::Power || o->kind == VplSamplerKind::Bidirectional)
-        o->pilot = s.get_int("vpl.pilot", o->pilot);
+        o->pilot = s.get_int("vpl.pilot", o->pilot,
+                             {">= 1",
+                              "Camera points the pilot traces to measure what each light (power) "
+                              "or VPL position (bidirectional) gives the image."});
     if (o->kind == VplSamplerKind::Power)
-        o->pilot_paths = s.get_int("vpl.pilot_paths", o->pilot_paths);
+        o->pilot_paths = s.get_int(
+            "vpl.pilot_paths", o->pilot_paths,
+            {">= 1", "Light paths the pilot traces to estimate each light's share of the image."});
     if (o->kind == VplSamplerKind::Bidirectional)
-        o->candidates = s.get_int("vpl.candidates", o->candidates);
+        o->candidates = s.get_int("vpl.candidates", o->candidates,
+                                  {">= 1",
+                                   "Candidates that bring light, per VPL kept, traced on average "
+                                   "before resampling down to vpl.count."});
     if (o->kind == VplSamplerKind::Metropolis) {
-        o->tries = s.get_int("vpl.metropolis.tries", o->tries);
-        o->mir_pilot = s.get_int("vpl.metropolis.pilot", o->mir_pilot);
-        o->mir_chains = s.get_int("vpl.metropolis.chains", o->mir_chains);
-        o->mir_large_step = s.get_float("vpl.metropolis.large_step", o->mir_large_step);
-        o->mir_cap = s.get_float("vpl.metropolis.cap", o->mir_cap);
+        o->tries = s.get_int(
+            "vpl.metropolis.tries", o->tries,
+            {">= 1", "Proposals per Metropolis step (above 1: multiple-try Metropolis)."});
+        o->mir_pilot = s.get_int("vpl.metropolis.pilot", o->mir_pilot,
+                                 {">= 1",
+                                  "Camera points, stratified over the film, on which each "
+                                  "geometric VPL's power is measured."});
+        o->mir_chains = s.get_int(
+            "vpl.metropolis.chains", o->mir_chains,
+            {">= 1", "Independent Metropolis chains, each started from a bootstrap path."});
+        o->mir_large_step = s.get_float(
+            "vpl.metropolis.large_step", o->mir_large_step,
+            {"0 to 1",
+             "Probability of a large step; the rest are small camera-side and light-side steps."});
+        o->mir_cap =
+            s.get_float("vpl.metropolis.cap", o->mir_cap,
+                        {">= 0",
+                         "Bound on a VPL's light at the first camera vertex in the chains' target, "
+                         "times the bootstrap's power estimate (0: no bound)."});
     }
     if (!(o->mir_cap >= 0)) throw UsageError("vpl.metropolis.cap must be >= 0 (0: no bound)");
     if (o->mir_chains < 1) throw UsageError("vpl.metropolis.chains must be >= 1");
@@ -76,12 +104,26 @@ void read_vpl_sampler(const Settings& s, VplSamplerOptions* o) {
 
 ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& defaults) {
     ManyLightSettings m;
-    m.max_depth = s.get_int("maxdepth", 5);
-    m.lights.vpl_count = s.get_int("vpl.count", kDefaultVplCount);
+    m.max_depth = s.get_int("maxdepth", 5,
+                            {">= 0",
+                             "Longest light transport path, in bounces (the scene's `Integrator` "
+                             "maxdepth, or --max-depth)."});
+    m.lights.vpl_count = s.get_int("vpl.count", kDefaultVplCount,
+                                   {">= 0",
+                                    "VPLs made from light paths (0: the emitters' point lights "
+                                    "only); under --time-limit, the most made."});
     // A VPL deposited at a light path's b-th bounce lights paths of b + 1 bounces, so light
     // paths stop where the path tracer's would (maxdepth bounces) unless told otherwise.
-    m.lights.vpl_max_depth = s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1));
-    std::string glossy = s.get_string("vpl.glossy", defaults.glossy);
+    m.lights.vpl_max_depth =
+        s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1),
+                  {">= 1",
+                   "VPLs along one light path; by default maxdepth - 1, so that VPLs carry light "
+                   "over as many bounces as the path tracer."});
+    std::string glossy =
+        s.get_string("vpl.glossy", defaults.glossy,
+                     {"bsdf, diffuse, skip",
+                      "VPLs on glossy surfaces re-emit through the whole BSDF (bsdf), through its "
+                      "diffuse part only (diffuse), or are not made (skip)."});
     if (glossy == "bsdf")
         m.lights.vpl_glossy = GlossyVpls::Bsdf;
     else if (glossy == "diffuse")
@@ -92,28 +134,52 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
         throw UsageError("vpl.glossy must be bsdf, diffuse or skip, not " + glossy);
     m.lights.vpls = m.lights.vpl_count > 0;
     read_vpl_sampler(s, &m.lights.vpl_sampler);
-    m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count);
-    m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count);
-    int seed = s.get_int("vpl.seed", -1);  // -1: follow --seed
+    m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count,
+                                    {">= 1", "Point lights sampled on the area lights."});
+    m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count,
+                                   {">= 1", "Directional lights sampled per environment map."});
+    int seed =
+        s.get_int("vpl.seed", -1,
+                  {">= -1",
+                   "Seed of the VPLs' light paths, the points on emitters and the light tree's "
+                   "representatives (-1: the render's --seed)."});  // -1: follow --seed
     if (seed < -1) throw UsageError("vpl.seed must be >= 0 (or -1: from --seed)");
     if (seed >= 0) m.explicit_seed = uint64_t(seed);
     m.lights.seed = m.explicit_seed.value_or(0);
-    m.clamp = s.get_float("vpl.clamp", defaults.clamp);
+    m.clamp = s.get_float("vpl.clamp", defaults.clamp,
+                          {">= 0",
+                           "Most radiance one VPL gives a gather point, per channel (0: no clamp): "
+                           "fewer spikes near VPLs, for light lost for good: a fixed bias that "
+                           "more time does not take back, only when asked for."});
     // Read only by the integrators that build a light tree, so that others report it unused.
     if (defaults.tree_reps > 0) {
-        m.tree_reps = s.get_int("tree.reps", defaults.tree_reps);
+        m.tree_reps = s.get_int("tree.reps", defaults.tree_reps,
+                                {"1 to 256",
+                                 "Representatives each light-tree node keeps, drawn in proportion "
+                                 "to luminance; each sample shades with one of them."});
         if (m.tree_reps < 1 || m.tree_reps > kLightTreeMaxReps)
             throw UsageError(fmt::format("tree.reps must be 1 to {}", kLightTreeMaxReps));
     }
-    std::string direct = s.get_string("lights.direct", defaults.direct);
+    std::string direct = s.get_string(
+        "lights.direct", defaults.direct,
+        {"sample, points",
+         "The area and environment lights' direct light: next-event estimation with MIS (sample) "
+         "or point lights in the set (points); delta lights are always point lights."});
     if (direct == "sample")
         m.lights.sampled_direct = true;
     else if (direct != "points")
         throw UsageError("lights.direct must be points or sample, not " + direct);
     // Read only when sampling, so that a count given with `points` is reported as unused.
     if (m.lights.sampled_direct) {
-        m.direct_samples = s.get_int("lights.direct_samples", m.direct_samples);
-        std::string mis = s.get_string("lights.direct_mis", "always");
+        m.direct_samples = s.get_int(
+            "lights.direct_samples", m.direct_samples,
+            {">= 1",
+             "Light samples (and BSDF samples) per gather point for the sampled direct light."});
+        std::string mis =
+            s.get_string("lights.direct_mis", "always",
+                         {"always, glossy",
+                          "Which gather points also take a BSDF sample, weighed by MIS, for the "
+                          "direct light: all (always) or only those with a glossy lobe (glossy)."});
         if (mis != "always" && mis != "glossy")
             throw UsageError("lights.direct_mis must be always or glossy, not " + mis);
         m.direct_mis = mis == "always";
@@ -145,7 +211,11 @@ bool ManyLightSettings::use_set(int64_t index, const PointLightSet& first) {
 }
 
 void read_vpl_sets(const Settings& s, ManyLightSettings* settings) {
-    const std::string sets = s.get_string("vpl.sets", "pass");
+    const std::string sets = s.get_string(
+        "vpl.sets", "pass",
+        {"pass, one",
+         "A new, independent VPL set and light tree for every pass (pass: the image's error "
+         "goes to zero with time), or one for the whole render (one: that set's error stays)."});
     if (sets != "pass" && sets != "one")
         throw UsageError("vpl.sets must be pass or one, not " + sets);
     settings->set_per_pass = sets == "pass";

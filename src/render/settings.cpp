@@ -48,26 +48,34 @@ bool Settings::has(const std::string& key) const {
     return scene && scene->has(key);
 }
 
-void Settings::record(const std::string& key, const char* type, std::string value) const {
+void Settings::record(const std::string& key, const char* type, std::string value,
+                      const SettingDoc& doc) const {
     if (!m_record) return;
-    std::string name = full_name(key);
+    SettingDefault entry{full_name(key), type, std::move(value), doc.range, doc.text};
     for (SettingDefault& d : *m_record)
-        if (d.key == name) {
-            d = {name, type, std::move(value)};
+        if (d.key == entry.key) {
+            // A second read without a description (a check of another integrator's setting)
+            // keeps the first one's.
+            if (entry.description.empty()) {
+                entry.range = d.range;
+                entry.description = d.description;
+            }
+            d = std::move(entry);
             return;
         }
-    m_record->push_back({name, type, std::move(value)});
+    m_record->push_back(std::move(entry));
 }
 
-int Settings::get_int(const std::string& key, int def) const {
-    record(key, "int", std::to_string(def));
+int Settings::get_int(const std::string& key, int def, const SettingDoc& doc) const {
+    record(key, "int", std::to_string(def), doc);
     if (const std::string* s = override_for(key)) return parse_number<int>(full_name(key), *s);
     const ParameterList* scene = scene_for(key);
     return scene ? scene->get_int(key, def) : def;
 }
 
-float Settings::get_float(const std::string& key, float def) const {
-    record(key, "float", fmt::format("{}", def));  // the shortest text that reads back as `def`
+float Settings::get_float(const std::string& key, float def, const SettingDoc& doc) const {
+    record(key, "float", fmt::format("{}", def),
+           doc);  // the shortest text that reads back as `def`
     if (const std::string* s = override_for(key)) {
         float v = parse_number<float>(full_name(key), *s);
         if (!std::isfinite(v)) throw UsageError("--set " + full_name(key) + ": not finite");
@@ -77,8 +85,8 @@ float Settings::get_float(const std::string& key, float def) const {
     return scene ? scene->get_float(key, def) : def;
 }
 
-bool Settings::get_bool(const std::string& key, bool def) const {
-    record(key, "bool", def ? "true" : "false");
+bool Settings::get_bool(const std::string& key, bool def, const SettingDoc& doc) const {
+    record(key, "bool", def ? "true" : "false", doc);
     if (const std::string* s = override_for(key)) {
         if (*s == "true" || *s == "1") return true;
         if (*s == "false" || *s == "0") return false;
@@ -88,8 +96,9 @@ bool Settings::get_bool(const std::string& key, bool def) const {
     return scene ? scene->get_bool(key, def) : def;
 }
 
-std::string Settings::get_string(const std::string& key, const std::string& def) const {
-    record(key, "string", def);
+std::string Settings::get_string(const std::string& key, const std::string& def,
+                                 const SettingDoc& doc) const {
+    record(key, "string", def, doc);
     if (const std::string* s = override_for(key)) return *s;
     const ParameterList* scene = scene_for(key);
     return scene ? scene->get_string(key, def) : def;

@@ -15,11 +15,20 @@
 
 namespace ml {
 
+// What a setting is for, written beside the code that reads it (the last argument of the
+// get_* calls) and printed by `manylight integrators --markdown` as docs/settings.md.
+struct SettingDoc {
+    const char* range = "";  // the values it takes: "1 to 256", ">= 0", "bsdf, diffuse, skip"
+    const char* text = "";   // one line: what it does
+};
+
 // A setting an integrator read, with the default it gave (Settings::record_defaults).
 struct SettingDefault {
-    std::string key;    // full name: "path.maxdepth", "vpl.count"
-    std::string type;   // "int", "float", "bool" or "string"
-    std::string value;  // the default as --set takes it: "5", "0.1", "true", "tree"
+    std::string key;          // full name: "path.maxdepth", "vpl.count"
+    std::string type;         // "int", "float", "bool" or "string"
+    std::string value;        // the default as --set takes it: "5", "0.1", "true", "tree"
+    std::string range;        // SettingDoc::range
+    std::string description;  // SettingDoc::text
 };
 
 class Settings {
@@ -27,17 +36,19 @@ public:
     Settings(std::string integrator, const ParameterList* scene_params,
              std::map<std::string, std::string> overrides);
 
-    int get_int(const std::string& key, int def) const;
-    float get_float(const std::string& key, float def) const;
-    bool get_bool(const std::string& key, bool def) const;
-    std::string get_string(const std::string& key, const std::string& def) const;
+    int get_int(const std::string& key, int def, const SettingDoc& doc = {}) const;
+    float get_float(const std::string& key, float def, const SettingDoc& doc = {}) const;
+    bool get_bool(const std::string& key, bool def, const SettingDoc& doc = {}) const;
+    std::string get_string(const std::string& key, const std::string& def,
+                           const SettingDoc& doc = {}) const;
     // True when the scene or --set gives `key` (it is not marked read).
     bool has(const std::string& key) const;
     const std::string& integrator() const { return m_integrator; }
     void check_unused() const;
-    // From now on every get_* adds its key, type and default to `out` (a key read twice keeps
-    // the last default): an integrator made from empty Settings lists what it reads, with the
-    // defaults its own code gives (integrator_settings in integrators/registry.h).
+    // From now on every get_* adds its key, type, default and SettingDoc to `out` (a key read
+    // twice keeps the last default, and the last description given): an integrator made from empty
+    // Settings lists what it reads, with the defaults its own code gives (integrator_settings in
+    // integrators/registry.h).
     void record_defaults(std::vector<SettingDefault>* out) { m_record = out; }
 
 private:
@@ -50,7 +61,8 @@ private:
     const ParameterList* scene_for(const std::string& key) const {
         return key.find('.') == std::string::npos ? m_scene : nullptr;
     }
-    void record(const std::string& key, const char* type, std::string value) const;
+    void record(const std::string& key, const char* type, std::string value,
+                const SettingDoc& doc) const;
     std::string m_integrator;
     const ParameterList* m_scene;                    // may be null
     std::map<std::string, std::string> m_overrides;  // full names

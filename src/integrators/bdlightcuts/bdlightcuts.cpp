@@ -204,46 +204,93 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
     // in the cut (the delta lights stay points).
     m_direct_sample = m_settings.lights.sampled_direct;
-    if (m_direct_sample && settings.get_int("lights.direct_samples", 1) != 1)
+    if (m_direct_sample &&
+        settings.get_int("lights.direct_samples", 1,
+                         {"1", "One light sample per VSP (the split weights need it)."}) != 1)
         throw UsageError("bdlightcuts: lights.direct_samples must be 1 (one light sample per VSP)");
     m_settings.direct_samples = 1;
-    if (settings.get_string("vpl.glossy", "bsdf") != "bsdf")
+    if (settings.get_string("vpl.glossy", "bsdf",
+                            {"bsdf",
+                             "VPLs re-emit through their whole BSDF (the diffuse weight does what "
+                             "the other choices do)."}) != "bsdf")
         throw UsageError("bdlightcuts: vpl.glossy must be bsdf (the diffuse weight replaces it)");
-    if (settings.get_float("vpl.clamp", 0.f) != 0.f)
+    if (settings.get_float("vpl.clamp", 0.f,
+                           {"0", "No clamp (the clamping weight does its work)."}) != 0.f)
         throw UsageError("bdlightcuts: vpl.clamp must be 0 (the clamping weight replaces it)");
     m_settings.lights.vpl_glossy = GlossyVpls::Bsdf;
     m_settings.clamp = 0;
 
-    m_samples = settings.get_int("samples", m_samples);
-    m_eye_length = settings.get_int("eye_length", m_eye_length);
-    const std::string rest = settings.get_string("rest", m_rest_path ? "path" : "drop");
+    m_samples =
+        settings.get_int("samples", m_samples,
+                         {">= 1", "Eye paths per pixel pass, shaded together by one product cut."});
+    m_eye_length = settings.get_int("eye_length", m_eye_length,
+                                    {">= 1",
+                                     "Virtual sensor points (VSPs) per eye path; the eye path "
+                                     "looks one bounce further for emission."});
+    const std::string rest =
+        settings.get_string("rest", m_rest_path ? "path" : "drop",
+                            {"path, drop",
+                             "The weight no split up to the eye-path length takes: path traced "
+                             "past the last VSP (path) or lost, a darkening (drop)."});
     if (rest != "path" && rest != "drop")
         throw UsageError("bdlightcuts.rest must be path or drop, not '" + rest + "'");
     m_rest_path = rest == "path";
-    m_rest_paths = settings.get_int("rest_paths", m_rest_paths);
+    m_rest_paths = settings.get_int(
+        "rest_paths", m_rest_paths,
+        {">= 1", "Remainder paths traced from each continued eye path, averaged."});
     if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
     const std::string vsp_tree =
-        settings.get_string("vsp_tree", m_tree_by_depth ? "depth" : "position");
+        settings.get_string("vsp_tree", m_tree_by_depth ? "depth" : "position",
+                            {"depth, position",
+                             "The VSP tree splits VSPs by eye depth before position (depth) or by "
+                             "position alone (position)."});
     if (vsp_tree != "depth" && vsp_tree != "position")
         throw UsageError("bdlightcuts.vsp_tree must be depth or position, not '" + vsp_tree + "'");
     m_tree_by_depth = vsp_tree == "depth";
-    const std::string emission = settings.get_string("emission", m_emission_mis ? "mis" : "hit");
+    const std::string emission =
+        settings.get_string("emission", m_emission_mis ? "mis" : "hit",
+                            {"mis, hit",
+                             "The emitter met by the eye path: BSDF samples and a light sample "
+                             "weighed by MIS (mis), or BSDF samples alone (hit)."});
     if (emission != "mis" && emission != "hit")
         throw UsageError("bdlightcuts.emission must be mis or hit, not '" + emission + "'");
     m_emission_mis = emission == "mis";
-    m_emission_samples = settings.get_int("emission_samples", m_emission_samples);
+    m_emission_samples = settings.get_int("emission_samples", m_emission_samples,
+                                          {">= 1",
+                                           "BSDF samples for the emission met from a glossy eye "
+                                           "vertex, weighed against the light sample by MIS."});
     if (m_emission_samples < 1) throw UsageError("bdlightcuts.emission_samples must be at least 1");
-    m_error = settings.get_float("error", m_error);
-    m_max_cut = settings.get_int("max_cut", m_max_cut);
-    m_floor = settings.get_float("floor", m_floor);
-    m_adaptive = settings.get_bool("adaptive", m_adaptive);
-    m_weights.energy = settings.get_bool("energy", m_weights.energy);
-    m_weights.clamp = settings.get_bool("clamp", m_weights.clamp);
-    m_weights.diffuse = settings.get_bool("diffuse", m_weights.diffuse);
-    m_weights.variance = settings.get_bool("variance", m_weights.variance);
-    m_weights.c_clamp = settings.get_float("c_clamp", m_weights.c_clamp);
-    m_weights.c_d = settings.get_float("c_d", m_weights.c_d);
-    m_weights.spread = settings.get_float("spread", m_weights.spread);
+    m_error = settings.get_float(
+        "error", m_error,
+        {">= 0", "Relative error bound of each VSP-light pair against the pixel's estimate."});
+    m_max_cut = settings.get_int("max_cut", m_max_cut, {">= 1", "Most pairs in one product cut."});
+    m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
+    m_adaptive = settings.get_bool("adaptive", m_adaptive,
+                                   {"",
+                                    "After the first pass each pixel takes a share of the later "
+                                    "passes' samples from its neighbours' noise."});
+    m_weights.energy = settings.get_bool(
+        "energy", m_weights.energy,
+        {"", "The energy-conservation weight of each split (alone: the unbiased limit)."});
+    m_weights.clamp = settings.get_bool(
+        "clamp", m_weights.clamp,
+        {"",
+         "The clamping weight: a VSP-VPL join above c_clamp leaves the rest to longer eye paths."});
+    m_weights.diffuse = settings.get_bool(
+        "diffuse", m_weights.diffuse,
+        {"", "The diffuse weight: VPLs whose lobe towards the VSP exceeds c_d are weighted down."});
+    m_weights.variance = settings.get_bool(
+        "variance", m_weights.variance,
+        {"",
+         "The variance weight: eye paths of large directional spread are left to longer splits."});
+    m_weights.c_clamp = settings.get_float("c_clamp", m_weights.c_clamp,
+                                           {"> 0", "C_clamp of the clamping weight."});
+    m_weights.c_d = settings.get_float("c_d", m_weights.c_d, {"> 0", "C_D of the diffuse weight."});
+    m_weights.spread =
+        settings.get_float("spread", m_weights.spread,
+                           {"> 0",
+                            "Directional spread of the eye path (radians) at which the variance "
+                            "weight falls to 0; it is 1 up to half of it."});
     if (m_samples < 1) throw UsageError("bdlightcuts.samples must be at least 1");
     if (m_eye_length < 1) throw UsageError("bdlightcuts.eye_length must be at least 1");
     if (!(m_error >= 0) || m_max_cut < 1)

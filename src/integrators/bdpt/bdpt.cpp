@@ -9,14 +9,27 @@
 namespace ml {
 
 BdptIntegrator::BdptIntegrator(const Settings& settings) {
-    m_max_depth = settings.get_int("maxdepth", 5);
-    m_strategy_images = settings.get_bool("strategy_images", false);
+    m_max_depth = settings.get_int("maxdepth", 5, {">= 0", "Longest path, in bounces."});
+    m_strategy_images =
+        settings.get_bool("strategy_images", false,
+                          {"",
+                           "Also write one image per (s, t) strategy, OUT.bdpt_s{S}_t{T}.exr, its "
+                           "MIS-weighted contribution (maxdepth <= 16)."});
     // pbrt-v4's names for its per-strategy images (weighted or not): the same images here.
-    if (settings.get_bool("visualizestrategies", false)) m_strategy_images = true;
-    if (settings.get_bool("visualizeweights", false)) m_strategy_images = true;
-    m_light_sampler_name = settings.get_string("lightsampler", "power");
+    if (settings.get_bool("visualizestrategies", false,
+                          {"", "pbrt-v4's name: as strategy_images."}))
+        m_strategy_images = true;
+    if (settings.get_bool("visualizeweights", false, {"", "pbrt-v4's name: as strategy_images."}))
+        m_strategy_images = true;
+    m_light_sampler_name =
+        settings.get_string("lightsampler", "power",
+                            {"power, bvh, uniform",
+                             "How a light subpath's light is chosen: by power (bvh, pbrt-v4's "
+                             "default, means power) or uniformly."});
     if (m_light_sampler_name == "bvh") m_light_sampler_name = "power";
-    settings.get_bool("regularize", false);  // accepted for pbrt-v4 scenes; no effect
+    settings.get_bool(
+        "regularize", false,
+        {"", "Accepted for pbrt-v4 scenes; no effect."});  // accepted for pbrt-v4 scenes; no effect
     if (m_max_depth < 0) throw UsageError("bdpt: maxdepth must be >= 0");
     if (m_light_sampler_name != "power" && m_light_sampler_name != "uniform")
         throw UsageError("bdpt: lightsampler must be power or uniform");

@@ -6,7 +6,8 @@
 namespace ml {
 
 DirectIntegrator::DirectIntegrator(const Settings& settings) {
-    m_max_depth = settings.get_int("maxdepth", 5);
+    m_max_depth =
+        settings.get_int("maxdepth", 5, {">= 0", "Most specular and glossy bounces followed."});
     if (m_max_depth < 0) throw UsageError("direct: maxdepth must be >= 0");
 }
 

@@ -56,24 +56,42 @@ private:
 
 IgiSettings IgiSettings::read(const Settings& s) {
     IgiSettings r;
-    std::string interleave = s.get_string("interleave", kDefaultInterleave);
+    std::string interleave = s.get_string(
+        "interleave", kDefaultInterleave,
+        {"NxM (N, M: 1 to 64)",
+         "Pixel (x, y) is shaded by VPL subset (x mod N, y mod M), each scaled by N x M."});
     char extra = 0;
     if (std::sscanf(interleave.c_str(), "%dx%d%c", &r.n, &r.m, &extra) != 2 || r.n < 1 || r.m < 1 ||
         r.n > 64 || r.m > 64)
         throw UsageError("igi.interleave must be NxM with N and M from 1 to 64 (e.g. 4x4), not " +
                          interleave);
-    r.filter = s.get_int("filter", kDefaultFilter);
+    r.filter = s.get_int("filter", kDefaultFilter,
+                         {"0 to 8",
+                          "Size of the box blur in interleave patterns (1: each pixel averages "
+                          "every VPL subset once; 0: no blur)."});
     if (r.filter < 0 || r.filter > 8)
         throw UsageError(
             "igi.filter (the blur's size in interleave patterns; 0: none) must be from 0 to 8");
-    r.thresholds.depth = s.get_float("depth_threshold", r.thresholds.depth);
-    r.thresholds.normal = s.get_float("normal_threshold", r.thresholds.normal);
+    r.thresholds.depth =
+        s.get_float("depth_threshold", r.thresholds.depth,
+                    {">= 0",
+                     "Neighbours whose distance from the camera differs by more than this fraction "
+                     "are across an edge and not blurred together."});
+    r.thresholds.normal = s.get_float(
+        "normal_threshold", r.thresholds.normal,
+        {"0 to 180",
+         "Degrees between shading normals beyond which neighbours are across an edge."});
     if (!(r.thresholds.depth >= 0) || !(r.thresholds.normal >= 0 && r.thresholds.normal <= 180))
         throw UsageError(
             "igi.depth_threshold must be >= 0 (relative depth) and igi.normal_threshold from 0 to "
             "180 (degrees)");
-    r.packets = s.get_bool("packets", r.packets);
-    r.filter_direct = s.get_bool("filter_direct", r.filter_direct);
+    r.packets = s.get_bool(
+        "packets", r.packets,
+        {"", "Trace each VPL's shadow rays to a row of 8 gather points as one Embree packet."});
+    r.filter_direct = s.get_bool(
+        "filter_direct", r.filter_direct,
+        {"",
+         "Blur the sampled direct light with the VPLs' light too (the viewer's moving frames)."});
     return r;
 }
 
@@ -84,7 +102,9 @@ IgiIntegrator::IgiIntegrator(const Settings& settings)
     // igi.vpls, or the vpl.count the other many-light integrators read (under igi's default);
     // both only if they agree. vpl.count is read last, so that its default listed for igi
     // (integrator_settings) is igi's.
-    int vpls = settings.get_int("vpls", kDefaultVpls);
+    int vpls = settings.get_int(
+        "vpls", kDefaultVpls,
+        {">= 0", "VPLs: vpl.count under igi's own name (give one, or both equal)."});
     int count = settings.get_int("vpl.count", vpls);
     if (settings.has("vpls") && settings.has("vpl.count") && vpls != count)
         throw UsageError("give igi.vpls or vpl.count, not both (they are the same count)");

@@ -19,22 +19,46 @@ namespace ml {
 LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
     read_vpl_sets(settings, &m_settings);
-    m_error = settings.get_float("error", m_error);
-    m_max_cut = settings.get_int("max_cut", m_max_cut);
-    m_verify = settings.get_bool("verify", false);
-    m_floor = settings.get_float("floor", m_floor);
+    m_error = settings.get_float("error", m_error,
+                                 {">= 0",
+                                  "Relative error bound: a cut is refined until each node's bound "
+                                  "is below this fraction of the estimate."});
+    m_max_cut = settings.get_int("max_cut", m_max_cut,
+                                 {">= 1",
+                                  "Most nodes in one cut; a cut stopped there has no error bound "
+                                  "(--stats: capped_fraction)."});
+    m_verify = settings.get_bool("verify", false,
+                                 {"",
+                                  "Check every node of every cut against the exact sum over its "
+                                  "lights and report bound violations in --stats (slow)."});
+    m_floor = settings.get_float("floor", m_floor,
+                                 {">= 0",
+                                  "Error floor: a cut stops when every bound is below error times "
+                                  "the larger of the estimate and floor times the image's mean "
+                                  "luminance, from a pilot (0: purely relative)."});
     if (!(m_floor >= 0)) throw UsageError("lightcuts.floor must be >= 0");
     // Drawn from the tree's (tree.reps), all of them unless told fewer.
-    m_reps = settings.get_int("reps", m_settings.tree_reps);
+    m_reps = settings.get_int(
+        "reps", m_settings.tree_reps,
+        {"1 to tree.reps",
+         "Representatives per node the samples shade with (1: Walter's single representative)."});
     if (m_reps < 1 || m_reps > m_settings.tree_reps)
         throw UsageError(
             fmt::format("lightcuts.reps must be 1 to tree.reps ({})", m_settings.tree_reps));
-    m_reconstruct = settings.get_int("reconstruct", m_reconstruct);
+    m_reconstruct =
+        settings.get_int("reconstruct", m_reconstruct,
+                         {"0 to 64",
+                          "Reconstruction cuts: full cuts only at every B-th pixel in x and y, the "
+                          "others from their block's corners (0 or 1: off)."});
     if (m_reconstruct < 0 || m_reconstruct > 64)
         throw UsageError(
             "lightcuts.reconstruct must be 0 to 64 (the sparse grid's spacing in "
             "pixels; 0 or 1: off)");
-    std::string criterion = settings.get_string("criterion", "max");
+    std::string criterion = settings.get_string(
+        "criterion", "max",
+        {"max, probable, sum",
+         "When a cut stops: each node's bound below error (max), the whole cut's error below error "
+         "with 99% probability (probable), or the sum of the bounds (sum)."});
     if (criterion == "max")
         m_criterion = Criterion::Max;
     else if (criterion == "sum")

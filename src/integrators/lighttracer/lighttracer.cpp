@@ -5,8 +5,10 @@
 namespace ml {
 
 LightTracerIntegrator::LightTracerIntegrator(const Settings& settings) {
-    m_max_depth = settings.get_int("maxdepth", 5);
-    m_light_sampler_name = settings.get_string("lightsampler", "power");
+    m_max_depth = settings.get_int("maxdepth", 5, {">= 0", "Longest light path, in bounces."});
+    m_light_sampler_name = settings.get_string(
+        "lightsampler", "power",
+        {"power, uniform", "How a light path's light is chosen: by power or uniformly."});
     if (m_max_depth < 0) throw UsageError("lighttracer: maxdepth must be >= 0");
     if (m_light_sampler_name != "power" && m_light_sampler_name != "uniform")
         throw UsageError("lighttracer: lightsampler must be power or uniform");

@@ -31,13 +31,27 @@ struct MdLightcutsIntegrator::ThreadState {
 MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
     read_vpl_sets(settings, &m_settings);
-    m_samples = settings.get_int("samples", m_samples);
-    m_error = settings.get_float("error", m_error);
-    m_max_cut = settings.get_int("max_cut", m_max_cut);
-    m_tighten = settings.get_int("tighten", 1);
-    m_floor = settings.get_float("floor", m_floor);
+    m_samples = settings.get_int("samples", m_samples,
+                                 {">= 1",
+                                  "Camera samples of a pixel shaded together by one product cut (a "
+                                  "pixel pass); --spp rounds up to whole passes."});
+    m_error = settings.get_float(
+        "error", m_error,
+        {">= 0", "Relative error bound of each gather-light pair against the pixel's estimate."});
+    m_max_cut = settings.get_int("max_cut", m_max_cut,
+                                 {">= 1",
+                                  "Most pairs in one cut; a cut stopped there has no error bound "
+                                  "(--stats: capped_fraction)."});
+    m_tighten = settings.get_int("tighten", 1,
+                                 {">= 0",
+                                  "Pairs whose gather node holds at most this many gather points "
+                                  "get the tight per-point bound."});
+    m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
     if (!(m_floor >= 0)) throw UsageError("mdlightcuts.floor must be >= 0");
-    std::string criterion = settings.get_string("criterion", "max");
+    std::string criterion = settings.get_string(
+        "criterion", "max",
+        {"max, sum",
+         "When a cut stops: each pair's bound below error (max) or the sum of the bounds (sum)."});
     if (criterion == "max")
         m_criterion = CutCriterion::Max;
     else if (criterion == "sum")

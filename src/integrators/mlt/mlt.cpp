@@ -14,17 +14,34 @@
 namespace ml {
 
 MltIntegrator::MltIntegrator(const Settings& settings, bool coherent) : m_coherent(coherent) {
-    m_max_depth = settings.get_int("maxdepth", 5);
-    m_bootstrap = settings.get_int("bootstrap", 100000);
-    m_chains = settings.get_int("chains", 256);
-    m_bidirectional_prob = settings.get_float("bidirectional_prob", 0.3f);
-    m_lens_prob = settings.get_float("lens_prob", 0.4f);
-    std::string bidirectional = settings.get_string("bidirectional", "partial");
+    m_max_depth = settings.get_int(
+        "maxdepth", 5, {">= 0", "Longest path, in bounces; each chain keeps one depth."});
+    m_bootstrap = settings.get_int(
+        "bootstrap", 100000,
+        {">= 1",
+         "Bootstrap paths per depth that estimate the image's brightness and start the chains."});
+    m_chains = settings.get_int("chains", 256,
+                                {">= 1", "Markov chains; the mutations are shared among them."});
+    m_bidirectional_prob = settings.get_float(
+        "bidirectional_prob", 0.3f,
+        {"> 0, sum with lens_prob <= 1", "Probability of a bidirectional mutation."});
+    m_lens_prob = settings.get_float("lens_prob", 0.4f,
+                                     {">= 0",
+                                      "Probability of a lens perturbation; what bidirectional_prob "
+                                      "and lens_prob leave are caustic perturbations."});
+    std::string bidirectional =
+        settings.get_string("bidirectional", "partial",
+                            {"partial, whole",
+                             "The bidirectional mutation deletes and regrows a subpath (partial, "
+                             "Veach) or always replaces the whole path (whole)."});
     if (bidirectional != "partial" && bidirectional != "whole")
         throw UsageError(name() + ": bidirectional must be \"partial\" or \"whole\", not \"" +
                          bidirectional + "\"");
     m_partial = bidirectional == "partial";
-    m_whole_prob = settings.get_float("whole_prob", 0.5f);
+    m_whole_prob = settings.get_float(
+        "whole_prob", 0.5f,
+        {"0 to 1",
+         "Share of partial bidirectional mutations that replace the whole path by a BDPT path."});
     if (!(m_whole_prob >= 0 && m_whole_prob <= 1))
         throw UsageError(name() + ": whole_prob must be in [0, 1]");
     if (m_max_depth < 0) throw UsageError(name() + ": maxdepth must be >= 0");

@@ -6,12 +6,20 @@
 namespace ml {
 
 PathIntegrator::PathIntegrator(const Settings& settings) {
-    m_max_depth = settings.get_int("maxdepth", 5);
-    m_rr_depth = settings.get_int("rrdepth", 1);
-    m_light_sampler_name = settings.get_string("lightsampler", "tree");
+    m_max_depth = settings.get_int("maxdepth", 5, {">= 0", "Longest path, in bounces."});
+    m_rr_depth = settings.get_int("rrdepth", 1,
+                                  {">= 0", "Depth from which Russian roulette may end a path."});
+    m_light_sampler_name =
+        settings.get_string("lightsampler", "tree",
+                            {"tree, bvh, power, uniform, all",
+                             "How next-event estimation picks a light: a light tree by importance "
+                             "at the point (tree; bvh is pbrt-v4's name for it), by power, "
+                             "uniformly, or every light at each vertex (all)."});
     // pbrt-v4's "bvh" light sampler is our light tree.
     if (m_light_sampler_name == "bvh") m_light_sampler_name = "tree";
-    settings.get_bool("regularize", false);  // accepted for pbrt-v4 scenes; no effect
+    settings.get_bool(
+        "regularize", false,
+        {"", "Accepted for pbrt-v4 scenes; no effect."});  // accepted for pbrt-v4 scenes; no effect
     if (m_max_depth < 0) throw UsageError("path: maxdepth must be >= 0");
     if (m_light_sampler_name != "tree" && m_light_sampler_name != "power" &&
         m_light_sampler_name != "uniform" && m_light_sampler_name != "all")

@@ -8,12 +8,24 @@
 namespace ml {
 
 PssmltIntegrator::PssmltIntegrator(const Settings& settings) {
-    m_max_depth = settings.get_int("maxdepth", 5);
-    m_params.large_step_prob = settings.get_float("large_step_prob", 0.3f);
-    m_params.sigma = settings.get_float("sigma", 0.01f);
-    m_bootstrap = settings.get_int("bootstrap", 100000);
-    m_chains = settings.get_int("chains", 1000);
-    m_estimator = settings.get_string("estimator", "bdpt");
+    m_max_depth = settings.get_int(
+        "maxdepth", 5, {">= 0", "Longest path, in bounces; each chain keeps one depth."});
+    m_params.large_step_prob =
+        settings.get_float("large_step_prob", 0.3f,
+                           {"0 to 1", "Probability of a large step (fresh primary samples)."});
+    m_params.sigma = settings.get_float(
+        "sigma", 0.01f,
+        {"> 0", "Standard deviation of a small step's perturbation in primary sample space."});
+    m_bootstrap = settings.get_int("bootstrap", 100000,
+                                   {">= 1",
+                                    "Primary samples per depth whose BDPT paths estimate the "
+                                    "image's brightness; the chains start from them, resampled."});
+    m_chains = settings.get_int("chains", 1000,
+                                {">= 1", "Chains in primary sample space, sharing the mutations."});
+    m_estimator = settings.get_string("estimator", "bdpt",
+                                      {"bdpt, path",
+                                       "What turns a primary sample into a contribution: BDPT "
+                                       "(bdpt) or the path tracer (path, a cross-check)."});
     if (m_max_depth < 0) throw UsageError("pssmlt: maxdepth must be >= 0");
     if (!(m_params.large_step_prob >= 0 && m_params.large_step_prob <= 1))
         throw UsageError("pssmlt: large_step_prob must be in [0, 1]");

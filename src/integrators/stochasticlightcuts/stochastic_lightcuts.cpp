@@ -14,7 +14,10 @@ namespace ml {
 StochasticLightcutsIntegrator::StochasticLightcutsIntegrator(const Settings& settings)
     : m_settings(ManyLightSettings::read(settings)) {
     read_vpl_sets(settings, &m_settings);
-    m_cut = settings.get_int("cut", m_cut);
+    m_cut = settings.get_int("cut", m_cut,
+                             {">= 1",
+                              "Clusters and single lights per cut; one light is drawn from each "
+                              "cluster in proportion to its importance."});
     if (m_cut < 1) throw UsageError("stochasticlightcuts.cut must be >= 1");
 }
 

@@ -6,7 +6,8 @@
 namespace ml {
 
 WhittedIntegrator::WhittedIntegrator(const Settings& settings) {
-    m_max_depth = settings.get_int("maxdepth", 5);
+    m_max_depth =
+        settings.get_int("maxdepth", 5, {">= 0", "Most mirror and glass bounces followed."});
     if (m_max_depth < 0) throw UsageError("whitted: maxdepth must be >= 0");
 }
 
