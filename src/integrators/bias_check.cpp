@@ -53,28 +53,33 @@ BiasCheckMode parse_bias_check_mode(const std::string& s) {
 
 void validate(const BiasCheckOptions& o) {
     if (!(o.share > 0 && o.share <= 0.5))
-        throw UsageError(fmt::format("--bias-check-share: expected a share of the time in (0, 0.5], "
-                                     "got {}",
-                                     o.share));
+        throw UsageError(
+            fmt::format("--bias-check-share: expected a share of the time in (0, 0.5], "
+                        "got {}",
+                        o.share));
     if (o.pixels < 2)
         throw UsageError(
             fmt::format("--bias-check-pixels: expected at least 2 pixels, got {}", o.pixels));
     if (o.spp && *o.spp < 1)
-        throw UsageError(fmt::format("--bias-check-spp: expected a positive integer, got {}", *o.spp));
+        throw UsageError(
+            fmt::format("--bias-check-spp: expected a positive integer, got {}", *o.spp));
 }
 
 bool bias_check_by_default(const std::string& integrator) {
-    for (const char* name : {"vpl", "lightcuts", "mdlightcuts", "bdlightcuts", "stochasticlightcuts",
-                             "igi", "manylight"})
+    for (const char* name : {"vpl", "lightcuts", "mdlightcuts", "bdlightcuts",
+                             "stochasticlightcuts", "igi", "manylight"})
         if (integrator == name) return true;
     return false;
 }
 
 bool bias_check_enabled(const BiasCheckOptions& options, const std::string& integrator) {
     switch (options.mode) {
-        case BiasCheckMode::On: return true;
-        case BiasCheckMode::Off: return false;
-        case BiasCheckMode::Auto: return bias_check_by_default(integrator);
+        case BiasCheckMode::On:
+            return true;
+        case BiasCheckMode::Off:
+            return false;
+        case BiasCheckMode::Auto:
+            return bias_check_by_default(integrator);
     }
     return false;
 }
@@ -98,7 +103,8 @@ std::optional<RatioInterval> ratio_of_means(const std::vector<double>& image,
     // The ratio estimator's residuals d = I - R P: their spread is the ratio's (delta method).
     const double r = sum_i / sum_p, mean_p = sum_p / double(n);
     double ss = 0;
-    for (size_t k = 0; k < n; ++k) ss += (image[k] - r * reference[k]) * (image[k] - r * reference[k]);
+    for (size_t k = 0; k < n; ++k)
+        ss += (image[k] - r * reference[k]) * (image[k] - r * reference[k]);
     const double se = std::sqrt(ss / double(n - 1) / double(n)) / mean_p;
     const double t = student_t_quantile(level, double(n - 1));
     return RatioInterval{r, r - t * se, r + t * se};
@@ -122,7 +128,7 @@ BiasCheckResult run_bias_check(const BiasCheckInput& in, const BiasCheckOptions&
     const int n = int(std::min<int64_t>(options.pixels, all));
 
     // 1. The pixels: a seeded permutation's first n, distinct and uniform.
-    std::vector<Point2i> pixels(size_t(n));
+    std::vector<Point2i> pixels(static_cast<size_t>(n));
     const uint64_t pixel_seed = hash_ints(in.seed, kPixelsSeedTag);
     for (int i = 0; i < n; ++i) {
         uint32_t p = sampling_detail::permutation_element(uint32_t(i), all, pixel_seed);
@@ -138,8 +144,8 @@ BiasCheckResult run_bias_check(const BiasCheckInput& in, const BiasCheckOptions&
     PathIntegrator path(
         Settings("path", nullptr, {{"path.maxdepth", std::to_string(in.max_depth)}}));
     path.prepare(in.scene);
-    RenderContext ctx{in.scene, in.camera, in.filter,    film,   *sampler,
-                      int(cap), in.time_limit, nullptr, in.seed};
+    RenderContext ctx{in.scene, in.camera,     in.filter, film,   *sampler,
+                      int(cap), in.time_limit, nullptr,   in.seed};
     ctx.start = in.start;
     ctx.cancel = in.cancel;
     struct ThreadState {
@@ -147,7 +153,7 @@ BiasCheckResult run_bias_check(const BiasCheckInput& in, const BiasCheckOptions&
         ScratchBuffer scratch;
     };
     ThreadLocal<ThreadState> states([&] { return ThreadState{sampler->clone(), ScratchBuffer()}; });
-    std::vector<int64_t> taken(size_t(n), 0);
+    std::vector<int64_t> taken(static_cast<size_t>(n), 0);
     RoundPlan plan;
     plan.total = cap;
     run_rounds(ctx, plan, [&](int64_t s0, int64_t units) {
@@ -198,8 +204,7 @@ BiasCheckResult run_bias_check(const BiasCheckInput& in, const BiasCheckOptions&
         off = off || ci->hi < 1 - kTolerance || ci->lo > 1 + kTolerance;
     }
     result.verdict = !judged ? "none" : (off ? "off" : "ok");
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
 }
 
@@ -212,17 +217,10 @@ nlohmann::json BiasCheckResult::to_json() const {
         ci95_j.push_back(interval_json(ci95[size_t(c)]));
         ci99_j.push_back(interval_json(i));
     }
-    return {{"pixels", pixels},
-            {"path_spp", path_spp()},
-            {"path_samples", path_samples},
-            {"max_depth", max_depth},
-            {"ratio", ratio},
-            {"ci95", ci95_j},
-            {"ci99", ci99_j},
-            {"tolerance", kTolerance},
-            {"verdict_level", kVerdictLevel},
-            {"seconds", seconds},
-            {"verdict", verdict}};
+    return {{"pixels", pixels},       {"path_spp", path_spp()},  {"path_samples", path_samples},
+            {"max_depth", max_depth}, {"ratio", ratio},          {"ci95", ci95_j},
+            {"ci99", ci99_j},         {"tolerance", kTolerance}, {"verdict_level", kVerdictLevel},
+            {"seconds", seconds},     {"verdict", verdict}};
 }
 
 std::string BiasCheckResult::summary() const {

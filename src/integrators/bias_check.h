@@ -53,8 +53,8 @@ enum class BiasCheckMode { Off, Auto, On };
 struct BiasCheckOptions {
     // Auto: on for the many-light integrators (bias_check_by_default), off for the others.
     BiasCheckMode mode = BiasCheckMode::Off;
-    double share = 0.1;     // of the render's time the check may take, in (0, 0.5]
-    int pixels = 256;       // pixels path traced (all of them on a smaller image)
+    double share = 0.1;      // of the render's time the check may take, in (0, 0.5]
+    int pixels = 256;        // pixels path traced (all of them on a smaller image)
     std::optional<int> spp;  // path samples per check pixel (a cap under a time limit)
 };
 
@@ -101,7 +101,7 @@ struct BiasCheckInput {
     const Scene& scene;
     const PerspectiveCamera& camera;
     const Filter& filter;
-    const Image& image;  // the render's image
+    const Image& image;                          // the render's image
     float max_component = 0, imaging_ratio = 1;  // the film's clamp and scale
     uint64_t seed = 0;                           // the render's seed
     int max_depth = 5;                           // the render's

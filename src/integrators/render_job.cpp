@@ -176,8 +176,8 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     settings.check_unused();
     validate(opt.bias_check);
     if (bias_check_enabled(opt.bias_check, name))
-        plan.max_depth = settings.has("maxdepth") ? settings.get_int("maxdepth", 5)
-                                                  : default_max_depth(*info);
+        plan.max_depth =
+            settings.has("maxdepth") ? settings.get_int("maxdepth", 5) : default_max_depth(*info);
 
     plan.sampler = create_sampler(sampler_name, spp, seed);
     plan.width = width;
@@ -304,19 +304,19 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
     // The bias check, on rank 0 (which holds the image), after the figures above: its rays are
     // not the render's. The time limit counts from the render's start, as a total.
     if (check && world.root()) {
-        BiasCheckInput in{scene,
-                          *plan.camera,
-                          *plan.filter,
-                          out.image,
-                          plan.max_component,
-                          plan.imaging_ratio,
-                          plan.seed,
-                          plan.max_depth,
-                          bias_check_spp(opt.bias_check, result.spp > 0 ? result.spp : plan.spp,
-                                         width, height),
-                          opt.time_limit,
-                          ctx.start,
-                          opt.cancel};
+        BiasCheckInput in{
+            scene,
+            *plan.camera,
+            *plan.filter,
+            out.image,
+            plan.max_component,
+            plan.imaging_ratio,
+            plan.seed,
+            plan.max_depth,
+            bias_check_spp(opt.bias_check, result.spp > 0 ? result.spp : plan.spp, width, height),
+            opt.time_limit,
+            ctx.start,
+            opt.cancel};
         fig.bias_check = run_bias_check(in, opt.bias_check);
         if (std::string w = fig.bias_check->warning(); !w.empty()) fig.warnings.push_back(w);
     }
