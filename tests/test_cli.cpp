@@ -259,7 +259,7 @@ TEST_F(Cli, BiasCheckInStatsAndSummary) {
         std::ifstream js(path("b.json"));
         return std::pair{r.output, nlohmann::json::parse(js)};
     };
-    auto [out, stats] = render("--integrator vpl");
+    auto [out, stats] = render("--integrator vpl --set vpl.count=1000");
     ASSERT_TRUE(stats.contains("bias_check")) << stats;
     const nlohmann::json& check = stats.at("bias_check");
     EXPECT_EQ(check.at("pixels"), 256) << check;
@@ -271,7 +271,8 @@ TEST_F(Cli, BiasCheckInStatsAndSummary) {
     EXPECT_TRUE(render("--integrator path --bias-check on --bias-check-pixels 20")
                     .second.at("bias_check")
                     .at("pixels") == 20);
-    EXPECT_FALSE(render("--integrator vpl --bias-check off").second.contains("bias_check"));
+    EXPECT_FALSE(render("--integrator vpl --set vpl.count=1000 --bias-check off")
+                     .second.contains("bias_check"));
 }
 
 // --time-limit is a contract even when one pass, or a Metropolis bootstrap, would take far
