@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "core/rng.h"
@@ -58,7 +59,8 @@ TEST(BiasCheck, StudentQuantilesMatchTables) {
 
 // On pairs whose means agree, the interval holds the true ratio 1 about as often as its level
 // says, with the reference as skewed as a path tracer's few-sample estimates (exponential) and
-// pixels of very different brightness; on pairs 10% apart it finds the difference.
+// pixels of very different brightness (a one-sample reference: the interval is about +-16%
+// at 99%); on pairs 30% apart it finds the difference.
 TEST(BiasCheck, IntervalCoversTheTrueRatio) {
     const int trials = 400, n = 256;
     int covered95 = 0, covered99 = 0, found = 0;
@@ -69,7 +71,7 @@ TEST(BiasCheck, IntervalCoversTheTrueRatio) {
             double truth = 0.05 + 5.0 * double(rng.next_float()) * rng.next_float();
             image[size_t(i)] = truth * (0.8 + 0.4 * rng.next_float());
             reference[size_t(i)] = truth * -std::log(1.0 - double(rng.next_float()));
-            biased[size_t(i)] = 0.9 * image[size_t(i)];
+            biased[size_t(i)] = 0.7 * image[size_t(i)];
         }
         auto ci95 = ratio_of_means(image, reference, 0.95);
         auto ci99 = ratio_of_means(image, reference, 0.99);
@@ -83,7 +85,9 @@ TEST(BiasCheck, IntervalCoversTheTrueRatio) {
     EXPECT_GE(covered95, int(0.92 * trials));
     EXPECT_LE(covered95, int(0.98 * trials));
     EXPECT_GE(covered99, int(0.97 * trials));
-    EXPECT_GE(found, int(0.5 * trials));
+    EXPECT_GE(found, int(0.95 * trials));
+    std::printf("covered: %d (95%%), %d (99%%); 30%% found: %d of %d\n", covered95, covered99,
+                found, trials);
 }
 
 TEST(BiasCheck, UndefinedWithoutLight) {
@@ -172,8 +176,8 @@ TEST(BiasCheck, CatchesAHandClampOnTheClassroom) {
 // `mdlightcuts` with no clamp (every surface is diffuse, so its VPLs miss nothing).
 TEST(BiasCheck, QuietOnTheCornellBox) {
     ML_NEED_SHARED("scenes/cornell-box/scene-v4.pbrt");
-    for (auto [integrator, spp] : {std::pair{std::string("path"), 32},
-                                   std::pair{std::string("mdlightcuts"), 8}}) {
+    for (auto [integrator, spp] :
+         {std::pair{std::string("path"), 32}, std::pair{std::string("mdlightcuts"), 8}}) {
         RenderOptions opt;
         opt.integrator = integrator;
         if (integrator != "path") opt.set["vpl.clamp"] = "0";
