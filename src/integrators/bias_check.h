@@ -10,7 +10,7 @@
 //      (sampling_detail::permutation_element) seeded by a hash of the render's seed: distinct,
 //      uniform, the same for a seed on any thread count.
 //   2. Path estimates: `path` (same max depth as the render) takes k samples in each chosen pixel
-//      with an independent sampler of its own seed (so the main image is untouched), through the
+//      with a Sobol' sampler of its own seed (so the main image is untouched), through the
 //      same camera, filter and film clamp as the image; each pixel's samples run in index order
 //      on one thread, so the estimates are the same for a seed whatever the thread count.
 //   3. Interval: R = sum(I_i) / sum(P_i) over the pixels, per channel (I: the image, P: path).
