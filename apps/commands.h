@@ -19,6 +19,11 @@ struct RenderArgs {
     std::vector<std::string> aovs;
     std::vector<float> look_at;  // --look-at: eye, target, up (9 numbers)
     bool quiet = false;
+    // The bias check (integrators/bias_check.h): auto, on or off; its share of the time, its
+    // pixels and (0: from the share) its path samples per pixel.
+    std::string bias_check = "auto";
+    double bias_check_share = 0.1;
+    int bias_check_pixels = 256, bias_check_spp = 0;
 };
 void add_render_command(CLI::App& app, RenderArgs& args);
 // Under mpirun, `world` holds the ranks: every rank renders its share, rank 0 writes the image,

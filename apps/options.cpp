@@ -52,6 +52,18 @@ CLI::Validator positive_seconds() {
         "SECONDS");
 }
 
+CLI::Validator share_of_time() {
+    return CLI::Validator(
+        [](std::string& s) -> std::string {
+            char* end = nullptr;
+            double v = s.empty() ? 0 : std::strtod(s.c_str(), &end);
+            if (s.empty() || end != s.c_str() + s.size() || !(v > 0 && v <= 0.5))
+                return "expected a share of the time in (0, 0.5], e.g. 0.1" + got(s);
+            return {};
+        },
+        "SHARE");
+}
+
 CLI::Validator image_size() {
     return CLI::Validator(
         [](std::string& s) -> std::string {

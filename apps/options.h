@@ -13,6 +13,7 @@ CLI::Validator positive_integer();      // 1, 2, ... up to INT_MAX
 CLI::Validator non_negative_integer();  // 0, 1, ... up to INT_MAX
 CLI::Validator seed_value();            // 0 ... 2^63 - 1
 CLI::Validator positive_seconds();      // a finite number > 0
+CLI::Validator share_of_time();         // a number in (0, 0.5]
 CLI::Validator image_size();            // WxH, both positive
 CLI::Validator one_of(const std::vector<std::string>& names, const std::string& what);
 CLI::Validator setting();       // NAME.KEY=VALUE

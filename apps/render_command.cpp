@@ -53,6 +53,20 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
                   "LookAt; `manylight view` prints it)")
         ->expected(9)
         ->allow_extra_args(false);
+    r->add_option("--bias-check", a.bias_check,
+                  "path trace a few random pixels too and say whether the image's mean is off "
+                  "by more than 1%: auto (on for the many-light integrators), on or off")
+        ->check(one_of({"auto", "on", "off"}, "bias check mode"));
+    r->add_option("--bias-check-share", a.bias_check_share,
+                  "the share of the time the bias check may take (default 0.1)")
+        ->check(share_of_time());
+    r->add_option("--bias-check-pixels", a.bias_check_pixels,
+                  "pixels the bias check path traces (default 256)")
+        ->check(positive_integer());
+    r->add_option("--bias-check-spp", a.bias_check_spp,
+                  "path samples per bias-check pixel (default: from the share; a cap under "
+                  "--time-limit)")
+        ->check(positive_integer());
     r->add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
 }
 
@@ -83,6 +97,10 @@ int run_render(const RenderArgs& a, World& world) {
     o.threads = a.threads;
     o.time_limit = a.time_limit;
     o.progress = !a.quiet;
+    o.bias_check.mode = parse_bias_check_mode(a.bias_check);
+    o.bias_check.share = a.bias_check_share;
+    o.bias_check.pixels = a.bias_check_pixels;
+    if (a.bias_check_spp > 0) o.bias_check.spp = a.bias_check_spp;
     if (!a.look_at.empty()) {
         std::array<float, 9> v;
         std::copy(a.look_at.begin(), a.look_at.end(), v.begin());
@@ -148,6 +166,7 @@ int run_render(const RenderArgs& a, World& world) {
             f.integrator.c_str(), f.seconds_load + f.seconds_build + f.seconds_render,
             f.seconds_load, f.seconds_build, f.seconds_render,
             f.seconds_render > 0 ? rays / f.seconds_render * 1e-6 : 0.0, output.c_str());
+        if (f.bias_check) std::printf("%s%s\n", kMessagePrefix, f.bias_check->summary().c_str());
     }
     return 0;
 }

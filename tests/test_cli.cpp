@@ -175,6 +175,15 @@ TEST_F(Cli, NumericOptionsSayWhatTheyExpectAndGot) {
                   "--resolution: expected WIDTHxHEIGHT, e.g. 640x360, got \"64\""},
              Case{"--set vplcount=1", "--set: expected NAME.KEY=VALUE"},
              Case{"--sampler halton", "--sampler: unknown sampler \"halton\"; expected one of:"},
+             Case{"--bias-check yes",
+                  "--bias-check: unknown bias check mode \"yes\"; expected one of: auto, on, off"},
+             Case{"--bias-check-share 0.9",
+                  "--bias-check-share: expected a share of the time in (0, 0.5], e.g. 0.1, got "
+                  "\"0.9\""},
+             Case{"--bias-check-pixels 0",
+                  "--bias-check-pixels: expected a positive integer, got \"0\""},
+             Case{"--bias-check-pixels 1", "--bias-check-pixels: expected at least 2 pixels"},
+             Case{"--bias-check-spp -1", "--bias-check-spp: expected a positive integer"},
          }) {
         Result r = run(std::string("render ") + c.args + " -q -o " + path("x.png"));
         EXPECT_EQ(r.code, 2) << c.args << ": " << r.output;
@@ -258,6 +267,32 @@ TEST_F(Cli, StatsCountNonFiniteSamples) {
     std::ifstream js(path("s.json"));
     nlohmann::json stats = nlohmann::json::parse(js);
     EXPECT_EQ(stats.at("film").at("nonfinite_samples"), 0) << stats;
+}
+
+// The bias check: on by default for a many-light integrator (its figures in --stats and a line
+// after the summary), off for path unless asked for, and off when told.
+TEST_F(Cli, BiasCheckInStatsAndSummary) {
+    auto render = [&](const std::string& args) {
+        Result r = run("render --resolution 16x16 --spp 2 -o " + path("b.png") + " --stats " +
+                       path("b.json") + " " + args);
+        EXPECT_EQ(r.code, 0) << args << ": " << r.output;
+        std::ifstream js(path("b.json"));
+        return std::pair{r.output, nlohmann::json::parse(js)};
+    };
+    auto [out, stats] = render("--integrator vpl --set vpl.count=1000");
+    ASSERT_TRUE(stats.contains("bias_check")) << stats;
+    const nlohmann::json& check = stats.at("bias_check");
+    EXPECT_EQ(check.at("pixels"), 256) << check;
+    EXPECT_EQ(check.at("ratio").size(), 3u) << check;
+    EXPECT_EQ(check.at("ci95").size(), 3u) << check;
+    EXPECT_TRUE(check.at("verdict") == "ok" || check.at("verdict") == "off") << check;
+    EXPECT_NE(out.find("manylight: bias check: image / path r "), std::string::npos) << out;
+    EXPECT_FALSE(render("--integrator path").second.contains("bias_check"));
+    EXPECT_TRUE(render("--integrator path --bias-check on --bias-check-pixels 20")
+                    .second.at("bias_check")
+                    .at("pixels") == 20);
+    EXPECT_FALSE(render("--integrator vpl --set vpl.count=1000 --bias-check off")
+                     .second.contains("bias_check"));
 }
 
 // --time-limit is a contract even when one pass, or a Metropolis bootstrap, would take far

@@ -36,6 +36,13 @@ std::string sampler_for_pbrt_name(const std::string& name, const FileLoc& loc) {
     throw_input_error(loc, "unknown sampler \"{}\"", name);
 }
 
+// The max depth an integrator renders with when nothing sets it (5 where it has none).
+int default_max_depth(const IntegratorInfo& info) {
+    for (const SettingDefault& d : integrator_settings(info))
+        if (d.key == info.name + ".maxdepth") return std::stoi(d.value);
+    return 5;
+}
+
 // Everything render_scene makes from the description and the options before the scene is built:
 // made first, so that bad settings are reported before the (long) build.
 struct RenderPlan {
@@ -43,6 +50,7 @@ struct RenderPlan {
     float max_component = kInfinity, imaging_ratio = 1;
     std::string name, sampler_name;
     uint64_t seed = 0;
+    int max_depth = 5;  // the integrator's "maxdepth", for the bias check's path tracer
     std::unique_ptr<Filter> filter;
     std::optional<PerspectiveCamera> camera;
     std::unique_ptr<Integrator> integrator;
@@ -167,6 +175,10 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     Settings settings(name, scene_params, overrides);
     auto integrator = info->create(settings);
     settings.check_unused();
+    validate(opt.bias_check);
+    if (bias_check_enabled(opt.bias_check, name))
+        plan.max_depth =
+            settings.has("maxdepth") ? settings.get_int("maxdepth", 5) : default_max_depth(*info);
 
     plan.sampler = create_sampler(sampler_name, spp, seed);
     plan.width = width;
@@ -228,8 +240,12 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
                       opt.on_progress);
     // Across ranks the render (and its time limit) starts when every rank has built the scene.
     if (distributed) world.barrier();
-    RenderContext ctx{scene,    *plan.camera,   *plan.filter, film,     *plan.sampler,
-                      plan.spp, opt.time_limit, &progress,    plan.seed};
+    // Under a time limit the bias check takes its share of it, after the render.
+    const bool check = bias_check_enabled(opt.bias_check, name);
+    const double time_limit =
+        check && opt.time_limit > 0 ? opt.time_limit * (1 - opt.bias_check.share) : opt.time_limit;
+    RenderContext ctx{scene,    *plan.camera, *plan.filter, film,     *plan.sampler,
+                      plan.spp, time_limit,   &progress,    plan.seed};
     ctx.cancel = opt.cancel;
     if (distributed) ctx.world = &world;
     RenderResult result;
@@ -285,6 +301,26 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
     fig.warnings.insert(fig.warnings.end(), result.warnings.begin(), result.warnings.end());
     out.aovs = std::move(result.aovs);
     out.debug_images = std::move(result.debug_images);
+
+    // The bias check, on rank 0 (which holds the image), after the figures above: its rays are
+    // not the render's. The time limit counts from the render's start, as a total.
+    if (check && world.root()) {
+        BiasCheckInput in{
+            scene,
+            *plan.camera,
+            *plan.filter,
+            out.image,
+            plan.max_component,
+            plan.imaging_ratio,
+            plan.seed,
+            plan.max_depth,
+            bias_check_spp(opt.bias_check, result.spp > 0 ? result.spp : plan.spp, width, height),
+            opt.time_limit,
+            ctx.start,
+            opt.cancel};
+        fig.bias_check = run_bias_check(in, opt.bias_check);
+        if (std::string w = fig.bias_check->warning(); !w.empty()) fig.warnings.push_back(w);
+    }
     return out;
 }
 
@@ -345,7 +381,8 @@ nlohmann::json RenderFigures::to_json() const {
          {{"load", seconds_load},
           {"build", seconds_build},
           {"render", seconds_render},
-          {"total", seconds_load + seconds_build + seconds_render}}},
+          {"total", seconds_load + seconds_build + seconds_render +
+                        (bias_check ? bias_check->seconds : 0.0)}}},
         {"rays",
          {{"camera", rays_camera},
           {"closest", rays_closest},
@@ -364,6 +401,7 @@ nlohmann::json RenderFigures::to_json() const {
                     {"seconds_reduce", seconds_reduce},
                     {"bytes_reduced_per_rank", bytes_reduced},
                     {"bytes_broadcast", bytes_broadcast}};
+    if (bias_check) j["bias_check"] = bias_check->to_json();
     for (const auto& [key, value] : integrator_stats.items()) j[key] = value;
     return j;
 }

@@ -16,6 +16,7 @@
 
 #include "core/world.h"
 #include "film/image.h"
+#include "integrators/bias_check.h"
 #include "scene/scene_desc.h"
 
 namespace ml {
@@ -46,6 +47,11 @@ struct RenderOptions {
     // render_scene with the same scene and options; rank 0's output holds the image and the
     // figures, the other ranks' are partial and not to be written. Only rank 0 draws progress.
     World* world = nullptr;
+    // The bias check (integrators/bias_check.h): off unless asked for here; the command line
+    // asks for Auto (on for the many-light integrators). Under a time limit the main render gets
+    // (1 - share) of it and the check the rest; without one it runs after the render and leaves
+    // the image as it is. Only rank 0 runs it (it holds the image).
+    BiasCheckOptions bias_check;
 };
 
 struct RenderFigures {
@@ -67,6 +73,9 @@ struct RenderFigures {
     std::vector<double> seconds_render_per_rank;
     double seconds_reduce = 0;
     uint64_t bytes_reduced = 0, bytes_broadcast = 0;
+    // The bias check's figures, when it ran (its seconds are not in seconds_render; "total" in
+    // --stats counts them).
+    std::optional<BiasCheckResult> bias_check;
     // The --stats object.
     nlohmann::json to_json() const;
 };
