@@ -132,10 +132,8 @@ TEST(ColouredLights, TreeEstimateIsTheExactSumInEveryChannel) {
 
 namespace {
 
-// 1024 point lights in a 32 x 32 grid at height 1 over a grey diffuse plane, coloured by
-// colour(i, j), seen from above.
-std::string grid_scene(const std::function<RGB(int, int)>& colour) {
-    std::string s = R"(LookAt 0 3 -3  0 0 0  0 1 0
+// A grey diffuse plane of 8 x 8 at height 0, seen from above: the stage of the scenes below.
+constexpr const char* kGreyFloorSeenFromAbove = R"(LookAt 0 3 -3  0 0 0  0 1 0
 Camera "perspective" "float fov" [ 50 ]
 Sampler "independent"
 WorldBegin
@@ -145,6 +143,11 @@ AttributeBegin
     "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ]
 AttributeEnd
 )";
+
+// 1024 point lights in a 32 x 32 grid at height 1 over a grey diffuse plane, coloured by
+// colour(i, j), seen from above.
+std::string grid_scene(const std::function<RGB(int, int)>& colour) {
+    std::string s = kGreyFloorSeenFromAbove;
     for (int i = 0; i < 32; ++i)
         for (int j = 0; j < 32; ++j) {
             RGB c = colour(i, j) * 0.008f;
@@ -187,21 +190,12 @@ std::string coloured_cornell_scene() {
     return s;
 }
 
-// A stage lit by 64 coloured spot lights (issue 34, item 5): from a rig at height 1.5 over a
+// A stage lit by 64 coloured spot lights: from a rig at height 1.5 over a
 // grey floor, each aimed at its own random point of the floor with a cone of 10 to 25 degrees,
 // so that from most points of the floor most spots face away (bench/spot_stage_scene.py is the
 // larger one of bench/stochastic_spots.md).
 std::string spot_stage_scene() {
-    std::string s = R"(LookAt 0 3 -3  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 50 ]
-Sampler "independent"
-WorldBegin
-AttributeBegin
-  Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
-  Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
-    "point3 P" [ -4 0 -4  4 0 -4  4 0 4  -4 0 4 ]
-AttributeEnd
-)";
+    std::string s = kGreyFloorSeenFromAbove;
     Rng rng(34);
     for (int i = 0; i < 8; ++i)
         for (int j = 0; j < 8; ++j) {

@@ -19,6 +19,13 @@ using namespace ml;
 
 namespace {
 
+// A direction uniform over the sphere.
+Vec3 random_direction(Rng& rng) {
+    float z = 2 * rng.next_float() - 1, phi = 2 * kPi * rng.next_float();
+    float r = std::sqrt(std::max(0.f, 1 - z * z));
+    return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
 // Omni and oriented lights (random normals) in the unit cube, random colours.
 std::vector<PointLight> mixed_lights(int n, uint64_t seed) {
     Rng rng(seed);
@@ -29,9 +36,7 @@ std::vector<PointLight> mixed_lights(int n, uint64_t seed) {
         pl.intensity = RGB(rng.next_float(), rng.next_float(), rng.next_float()) * 2.f;
         if (i % 2) {
             pl.kind = PointLightKind::Oriented;
-            float z = 2 * rng.next_float() - 1, phi = 2 * kPi * rng.next_float();
-            float r = std::sqrt(std::max(0.f, 1 - z * z));
-            pl.n = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+            pl.n = random_direction(rng);
         }
     }
     return lights;
@@ -46,9 +51,7 @@ std::vector<PointLight> spot_lights(int n, uint64_t seed) {
         PointLight& pl = lights[size_t(i)];
         pl.p = Vec3(rng.next_float(), rng.next_float(), rng.next_float());
         pl.intensity = RGB(rng.next_float(), rng.next_float(), rng.next_float()) * 2.f;
-        float z = 2 * rng.next_float() - 1, phi = 2 * kPi * rng.next_float();
-        float r = std::sqrt(std::max(0.f, 1 - z * z));
-        pl.n = Vec3(r * std::cos(phi), r * std::sin(phi), z);
+        pl.n = random_direction(rng);
         float cone = radians(3 + 57 * rng.next_float());
         float delta = i % 4 ? cone * rng.next_float() : 0.f;
         pl.cos_end = std::cos(cone);
