@@ -56,6 +56,11 @@ public:
     void object_instance(const std::string& name, const FileLoc& loc);
     void world_begin(const FileLoc& loc);
 
+    // `Option "name" value`: the options that leave the image unchanged are accepted and
+    // ignored; the others are refused (manylight has no way to honour them).
+    void option(const std::string& name, const std::string& value, bool quoted,
+                const FileLoc& loc);
+
     // Camera, Film, Sampler, PixelFilter, Integrator: kept for the renderer, unchecked.
     void camera(const std::string& name, ParameterList params, const FileLoc& loc);
     void entity(SceneEntity SceneDesc::*which, const std::string& name, ParameterList params,
