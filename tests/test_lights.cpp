@@ -487,9 +487,9 @@ TEST(Lights, BadInputs) {
     EXPECT_THROW(
         create_light("spot", params({num_param("float", "coneangle", {190})}), Transform(), "", {}),
         InputError);
-    EXPECT_THROW(
-        create_light("spot", params({num_param("float", "conedeltaangle", {-1})}), Transform(), "", {}),
-        InputError);
+    EXPECT_THROW(create_light("spot", params({num_param("float", "conedeltaangle", {-1})}),
+                              Transform(), "", {}),
+                 InputError);
     EXPECT_THROW(
         create_light("point", params({num_param("float", "power", {-3})}), Transform(), "", {}),
         InputError);

@@ -110,7 +110,8 @@ protected:
         for (RGB& p : tex.pixels) p = RGB(0.25f);
         write_image(m_dir.file("env.exr"), env);
         write_image(m_dir.file("tex.exr"), tex);
-        m_dir.write("tri.ply", ml::test::binary_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}));
+        m_dir.write("tri.ply",
+                    ml::test::binary_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}));
     }
     ScratchDir m_dir;
 };
@@ -163,8 +164,7 @@ TEST_F(PbrtParams, NamesPbrtV4LacksStayErrors) {
     for (const PbrtParam& row : kPbrtV4Params) {
         if (row.status != Pbrt::Accepted || !*row.param) continue;
         if (!seen.insert(std::string(row.directive) + "/" + row.type).second) continue;
-        const std::string text =
-            scene_for(row, m_dir.path(), "\n  \"float notapbrtv4name\" [ 1 ]");
+        const std::string text = scene_for(row, m_dir.path(), "\n  \"float notapbrtv4name\" [ 1 ]");
         SCOPED_TRACE(describe(row) + "\n" + text);
         try {
             load(row, text, m_dir.path());
@@ -181,9 +181,8 @@ TEST_F(PbrtParams, NamesPbrtV4LacksStayErrors) {
 }
 
 TEST(PbrtParamsSpot, OldConeDeltaNameIsAnErrorWithAHint) {
-    expect_scene_error(
-        "WorldBegin\nLightSource \"spot\"\n  \"float conedelta\" [ 10 ]\n", 3, 3,
-        "the falloff angle is \"float conedeltaangle\"");
+    expect_scene_error("WorldBegin\nLightSource \"spot\"\n  \"float conedelta\" [ 10 ]\n", 3, 3,
+                       "the falloff angle is \"float conedeltaangle\"");
     expect_scene_error(
         "WorldBegin\nLightSource \"spot\" \"float coneangle\" [ 20 ]\n"
         "  \"float conedeltaangle\" [ 30 ]\n",

@@ -136,23 +136,23 @@ TEST(Checkerboard, FloorRendersItsSquares) {
 
 TEST(Checkerboard, PlanarMappingMakesTheSameFloor) {
     // s = 4x, t = 4y over [-1, 1]^2: the same 8 x 8 squares, the one at (-1, -1) even.
-    expect_board(render_board(board_scene_with(
-                                  "Texture \"checks\" \"spectrum\" \"checkerboard\" "
-                                  "\"string mapping\" \"planar\" \"vector3 v1\" [ 4 0 0 ] "
-                                  "\"vector3 v2\" [ 0 4 0 ] \"rgb tex1\" [ 0.8 0.8 0.8 ] "
-                                  "\"rgb tex2\" [ 0.2 0.2 0.2 ]"))
-                     .image);
+    expect_board(
+        render_board(board_scene_with("Texture \"checks\" \"spectrum\" \"checkerboard\" "
+                                      "\"string mapping\" \"planar\" \"vector3 v1\" [ 4 0 0 ] "
+                                      "\"vector3 v2\" [ 0 4 0 ] \"rgb tex1\" [ 0.8 0.8 0.8 ] "
+                                      "\"rgb tex2\" [ 0.2 0.2 0.2 ]"))
+            .image);
 }
 
 TEST(Checkerboard, ThreeDimensionalInItsOwnSpaceMakesTheSameFloor) {
     // Texture space scaled by 1/4 at the directive: squares of 1/4, and the floor at z = 0.1
     // lies in the layer floor(4 z) = 0.
-    expect_board(render_board(board_scene_with(
-                                  "AttributeBegin\nScale 0.25 0.25 0.25\n"
-                                  "Texture \"checks\" \"spectrum\" \"checkerboard\" "
-                                  "\"integer dimension\" [ 3 ] \"rgb tex1\" [ 0.8 0.8 0.8 ] "
-                                  "\"rgb tex2\" [ 0.2 0.2 0.2 ]\nAttributeEnd"))
-                     .image);
+    expect_board(
+        render_board(board_scene_with("AttributeBegin\nScale 0.25 0.25 0.25\n"
+                                      "Texture \"checks\" \"spectrum\" \"checkerboard\" "
+                                      "\"integer dimension\" [ 3 ] \"rgb tex1\" [ 0.8 0.8 0.8 ] "
+                                      "\"rgb tex2\" [ 0.2 0.2 0.2 ]\nAttributeEnd"))
+            .image);
 }
 
 TEST(Checkerboard, BadInputIsReportedAtItsPlace) {

@@ -230,9 +230,8 @@ std::unique_ptr<Filter> create_filter(const std::string& name, const ParameterLi
         return std::make_unique<SignedSeparableFilter>(
             r, [tau](float x, float) { return sinc(x) * sinc(x / tau); });
     }
-    throw_input_error(loc,
-                      "unknown pixel filter \"{}\" (box, gaussian, triangle, mitchell and sinc)",
-                      name);
+    throw_input_error(
+        loc, "unknown pixel filter \"{}\" (box, gaussian, triangle, mitchell and sinc)", name);
 }
 
 }  // namespace ml

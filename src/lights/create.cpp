@@ -46,8 +46,7 @@ float rescale(float target, float k_e) { return target > 0 && k_e > 0 ? target /
 std::unique_ptr<Light> create_infinite(const ParameterList& params, const Transform& to_world,
                                        const std::string& base_dir, const FileLoc& loc) {
     if (const Param* portal = params.find("portal"))
-        throw_input_error(portal->loc,
-                          "infinite light: \"portal\" is not supported by manylight");
+        throw_input_error(portal->loc, "infinite light: \"portal\" is not supported by manylight");
     float scale = get_scale(params, loc);
     std::string filename = params.get_string("filename", "");
     bool has_L = params.has("L");

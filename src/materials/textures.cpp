@@ -58,8 +58,8 @@ Vec2 TextureMapping2D::map(const TextureEvalContext& ctx) const {
 bool Checkerboard::second(const TextureEvalContext& ctx) const {
     if (dimension == 3) {
         Vec3 p = world_to_texture.point(ctx.p);
-        int64_t sum = int64_t(std::floor(p.x)) + int64_t(std::floor(p.y)) +
-                      int64_t(std::floor(p.z));
+        int64_t sum =
+            int64_t(std::floor(p.x)) + int64_t(std::floor(p.y)) + int64_t(std::floor(p.z));
         return (sum & 1) != 0;
     }
     Vec2 st = map2d.map(ctx);
@@ -221,8 +221,7 @@ WrapMode parse_wrap(const std::string& s, const FileLoc& loc) {
 }
 
 ImageLookup make_image_lookup(const ParameterList& params, const Transform& to_world,
-                              const std::string& base_dir, ImageCache& images,
-                              const FileLoc& loc) {
+                              const std::string& base_dir, ImageCache& images, const FileLoc& loc) {
     TextureMapping2D mapping = parse_mapping(params, to_world, loc);
     std::string filter = params.get_string("filter", "bilinear");
     if (filter != "point" && filter != "bilinear" && filter != "trilinear" && filter != "ewa")

@@ -276,8 +276,9 @@ void SceneBuilder::entity(SceneEntity SceneDesc::*which, const std::string& name
                               "(it renders RGB)");
         for (const char* crop : {"pixelbounds", "cropwindow"})
             if (const Param* p = params.find(crop))
-                throw_input_error(p->loc, "film: \"{}\" (rendering part of the image) is not "
-                                          "supported by manylight",
+                throw_input_error(p->loc,
+                                  "film: \"{}\" (rendering part of the image) is not "
+                                  "supported by manylight",
                                   crop);
         // A gbuffer film's frame for its geometric channels: manylight writes RGB only.
         if (name == "gbuffer") params.get_string("coordinatesystem", "camera");

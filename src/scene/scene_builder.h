@@ -58,8 +58,7 @@ public:
 
     // `Option "name" value`: the options that leave the image unchanged are accepted and
     // ignored; the others are refused (manylight has no way to honour them).
-    void option(const std::string& name, const std::string& value, bool quoted,
-                const FileLoc& loc);
+    void option(const std::string& name, const std::string& value, bool quoted, const FileLoc& loc);
 
     // Camera, Film, Sampler, PixelFilter, Integrator: kept for the renderer, unchecked.
     void camera(const std::string& name, ParameterList params, const FileLoc& loc);
