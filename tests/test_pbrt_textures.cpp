@@ -78,10 +78,10 @@ TEST(TextureMapping, SphericalIsThetaAndPhiOverPi) {
     // Texture space moved by +1 in x: the world point (1, 0, 2) is straight up (theta 0).
     m.world_to_texture = Transform::translate(Vec3(1, 0, 0)).inverse();
     EXPECT_NEAR(m.map(at(Vec3(1, 0, 2))).x, 0.f, 1e-6f);
-    // (1, 1, 0) in texture space: theta = pi/2, phi = pi/2.
+    // (1, 1, 0) in texture space: theta = pi/2, phi = pi/4.
     Vec2 st = m.map(at(Vec3(2, 1, 0)));
     EXPECT_NEAR(st.x, 0.5f, 1e-6f);
-    EXPECT_NEAR(st.y, 0.25f, 1e-6f);
+    EXPECT_NEAR(st.y, 0.125f, 1e-6f);
     // (0, -1, -1): theta = 3pi/4, phi = 3pi/2.
     st = m.map(at(Vec3(1, -1, -1)));
     EXPECT_NEAR(st.x, 0.75f, 1e-6f);
@@ -161,7 +161,7 @@ TEST(Checkerboard, BadInputIsReportedAtItsPlace) {
         3, "\"dimension\" must be 2 or 3");
     expect_scene_error(
         "WorldBegin\nTexture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"\n", 2,
-        39, "unknown texture mapping \"cubic\"");
+        36, "unknown texture mapping \"cubic\"");
     expect_scene_error(
         "WorldBegin\nTexture \"c\" \"float\" \"checkerboard\"\n  \"texture tex1\" \"nope\"\n", 3, 3,
         "undefined float texture \"nope\"");
