@@ -143,32 +143,21 @@ struct Checkerboard {
     bool second(const TextureEvalContext& ctx) const;
 };
 
-class CheckerboardFloatTexture final : public FloatTexture {
+// tex1 and tex2 (float or RGB textures) on the squares of a Checkerboard.
+template <typename Base, typename Value>
+class CheckerboardTexture final : public Base {
 public:
-    CheckerboardFloatTexture(Checkerboard board, std::shared_ptr<FloatTexture> tex1,
-                             std::shared_ptr<FloatTexture> tex2)
+    CheckerboardTexture(Checkerboard board, std::shared_ptr<Base> tex1, std::shared_ptr<Base> tex2)
         : m_board(std::move(board)), m_tex1(std::move(tex1)), m_tex2(std::move(tex2)) {}
-    float eval(const TextureEvalContext& ctx) const override {
+    Value eval(const TextureEvalContext& ctx) const override {
         return m_board.second(ctx) ? m_tex2->eval(ctx) : m_tex1->eval(ctx);
     }
 
 private:
     Checkerboard m_board;
-    std::shared_ptr<FloatTexture> m_tex1, m_tex2;
+    std::shared_ptr<Base> m_tex1, m_tex2;
 };
-
-class CheckerboardRGBTexture final : public RGBTexture {
-public:
-    CheckerboardRGBTexture(Checkerboard board, std::shared_ptr<RGBTexture> tex1,
-                           std::shared_ptr<RGBTexture> tex2)
-        : m_board(std::move(board)), m_tex1(std::move(tex1)), m_tex2(std::move(tex2)) {}
-    RGB eval(const TextureEvalContext& ctx) const override {
-        return m_board.second(ctx) ? m_tex2->eval(ctx) : m_tex1->eval(ctx);
-    }
-
-private:
-    Checkerboard m_board;
-    std::shared_ptr<RGBTexture> m_tex1, m_tex2;
-};
+using CheckerboardFloatTexture = CheckerboardTexture<FloatTexture, float>;
+using CheckerboardRGBTexture = CheckerboardTexture<RGBTexture, RGB>;
 
 }  // namespace ml
