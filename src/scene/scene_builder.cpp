@@ -9,6 +9,7 @@
 #include "geometry/ply.h"
 #include "geometry/shapes.h"
 #include "lights/create.h"
+#include "materials/textures.h"
 #include "scene/tokenizer.h"
 
 namespace ml {
@@ -371,14 +372,54 @@ const Material* SceneBuilder::default_material(const FileLoc& loc) {
     return m_default_material;
 }
 
-void SceneBuilder::add_shape(size_t source, const FileLoc& loc) {
+namespace {
+
+// A shape's "alpha" from a float texture or a constant.
+class TextureAlphaMask final : public AlphaMask {
+public:
+    explicit TextureAlphaMask(std::shared_ptr<const FloatTexture> tex) : m_tex(std::move(tex)) {}
+    float eval(const Vec3& p, const Vec2& uv) const override { return m_tex->eval({p, uv}); }
+
+private:
+    std::shared_ptr<const FloatTexture> m_tex;
+};
+
+}  // namespace
+
+std::shared_ptr<const AlphaMask> SceneBuilder::shape_alpha(const ParameterList& params) const {
+    const Param* p = params.find("alpha");
+    if (!p) return nullptr;
+    std::shared_ptr<const FloatTexture> tex;
+    if (p->type == "texture") {
+        std::string name = params.get_texture("alpha");
+        auto it = m_desc.textures.floats.find(name);
+        if (it == m_desc.textures.floats.end())
+            throw_input_error(p->loc, "\"alpha\": undefined float texture \"{}\"", name);
+        tex = it->second;
+    } else {
+        // As pbrt-v4: a constant alpha of 1 (or more) is no cut-out at all.
+        float a = params.get_float("alpha", 1);
+        if (a >= 1) return nullptr;
+        tex = std::make_shared<ConstantFloatTexture>(a);
+    }
+    if (m_state.area_light && !m_current_object)
+        throw_input_error(p->loc,
+                          "\"alpha\" on an emitting shape (AreaLightSource at {}) is not "
+                          "supported by manylight",
+                          m_state.area_light->loc.to_string());
+    return std::make_shared<TextureAlphaMask>(std::move(tex));
+}
+
+void SceneBuilder::add_shape(size_t source, std::shared_ptr<const AlphaMask> alpha,
+                             const FileLoc& loc) {
     ShapeRecord r{source,
                   {m_state.ctm[0], m_state.ctm[1]},
                   {Transform(), Transform()},
                   m_state.reverse_orientation,
                   m_state.material,
                   m_state.area_light,
-                  loc};
+                  loc,
+                  std::move(alpha)};
     if (m_current_object) {
         // As pbrt-v4: area lights are ignored inside object instances.
         r.area_light = nullptr;
@@ -420,6 +461,7 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);
     }
+    auto alpha = shape_alpha(params);
     params.check_unused();
     m_sources.push_back(std::move(src));
     if (!m_sources.back().ply_path.empty()) {
@@ -433,7 +475,7 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
             }
         });
     }
-    add_shape(m_sources.size() - 1, loc);
+    add_shape(m_sources.size() - 1, std::move(alpha), loc);
 }
 
 void SceneBuilder::light_source(const std::string& type, const ParameterList& params,
@@ -504,6 +546,7 @@ SceneDesc SceneBuilder::finish() {
         else
             transform_mesh(*mesh, r.instance[0] * r.to_world[0], r.reverse_orientation);
         mesh->material = r.material;
+        mesh->alpha = r.alpha;
         m_desc.meshes[i] = std::move(mesh);
     });
 

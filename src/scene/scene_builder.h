@@ -86,7 +86,8 @@ public:
 
 private:
     const Material* default_material(const FileLoc& loc);
-    void add_shape(size_t source, const FileLoc& loc);
+    void add_shape(size_t source, std::shared_ptr<const AlphaMask> alpha, const FileLoc& loc);
+    std::shared_ptr<const AlphaMask> shape_alpha(const ParameterList& params) const;
     void set_ctm(const Transform& t);
     void concat(const Transform& t);
     bool ctm_animated() const;
