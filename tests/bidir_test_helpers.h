@@ -22,7 +22,7 @@ inline const std::string kCornellPointLight = R"(LightSource "point" "rgb I" [ 6
   "point3 from" [ 278 500 279 ])";
 inline const std::string kCornellSpotLight = R"(LightSource "spot" "rgb I" [ 150000 120000 80000 ]
   "point3 from" [ 278 540 279 ] "point3 to" [ 278 0 279 ] "float coneangle" [ 40 ]
-  "float conedelta" [ 10 ])";
+  "float conedeltaangle" [ 10 ])";
 
 // The built-in Cornell box (its Gaussian pixel filter: splats are spread over it as camera
 // samples are drawn from it), `extra` added to the world and its area light replaced by `light`

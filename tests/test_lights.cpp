@@ -96,7 +96,7 @@ TEST(Lights, PointLightIrradianceAndPower) {
 TEST(Lights, SpotLightFalloffAndPower) {
     auto l = create_light(
         "spot",
-        params({num_param("float", "coneangle", {40}), num_param("float", "conedelta", {15}),
+        params({num_param("float", "coneangle", {40}), num_param("float", "conedeltaangle", {15}),
                 num_param("point3", "to", {0, 0, -1})}),
         Transform(), "", {});
     // Inside the full-intensity cone and outside the cone.
@@ -487,9 +487,9 @@ TEST(Lights, BadInputs) {
     EXPECT_THROW(
         create_light("spot", params({num_param("float", "coneangle", {190})}), Transform(), "", {}),
         InputError);
-    EXPECT_THROW(
-        create_light("spot", params({num_param("float", "conedelta", {-1})}), Transform(), "", {}),
-        InputError);
+    EXPECT_THROW(create_light("spot", params({num_param("float", "conedeltaangle", {-1})}),
+                              Transform(), "", {}),
+                 InputError);
     EXPECT_THROW(
         create_light("point", params({num_param("float", "power", {-3})}), Transform(), "", {}),
         InputError);

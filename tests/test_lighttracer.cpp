@@ -30,7 +30,7 @@ TEST(LightTracer, AgreesWithPathUnderPointAndSpotLights) {
   "point3 from" [ 278 500 279 ])";
     std::string spot = R"(LightSource "spot" "rgb I" [ 150000 120000 80000 ]
   "point3 from" [ 278 540 279 ] "point3 to" [ 278 0 279 ] "float coneangle" [ 40 ]
-  "float conedelta" [ 10 ])";
+  "float conedeltaangle" [ 10 ])";
     for (const std::string& light : {point, spot}) {
         std::string scene = test::cornell_variant("", light);
         auto lt = test::render_twice(scene, "lighttracer", 32, 3, 32);

@@ -255,7 +255,7 @@ TEST(BadInput, WorldDirectiveBeforeWorldBegin) {
 }
 
 TEST(BadInput, UnsupportedDirectivesAndColorSpaces) {
-    expect_scene_error("Option \"bool wavefront\" true\n", 1, 1, "not supported");
+    expect_scene_error("Option \"bool disablepixeljitter\" true\n", 1, 1, "not supported");
     expect_scene_error("ColorSpace \"aces2065-1\"\n", 1, 12, "unsupported color space");
 }
 

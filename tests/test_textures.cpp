@@ -176,7 +176,7 @@ TEST_F(TextureTest, BadInputThrowsAtItsLocation) {
                        FileLoc{"scene.pbrt", 3, 1});
     };
     EXPECT_THROW(make("imagemap", {str("filename", "missing.png")}), InputError);
-    EXPECT_THROW(make("checkerboard", {}), InputError);
+    EXPECT_THROW(make("marble", {}), InputError);
     EXPECT_THROW(make("imagemap", {str("filename", "quad.pfm"), str("wrap", "mirror")}),
                  InputError);
     EXPECT_THROW(make("imagemap", {str("filename", "quad.pfm"), str("filter", "cubic")}),
@@ -289,6 +289,11 @@ TEST_F(TextureTest, MaterialTexturesAndErrors) {
     }
     try {
         bad("hair", {});
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("\"hair\" is not supported"), std::string::npos);
+    }
+    try {
+        bad("plastic", {});
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("unknown material type"), std::string::npos);
     }

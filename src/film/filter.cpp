@@ -1,6 +1,7 @@
 #include "film/filter.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace ml {
 
@@ -116,8 +117,89 @@ private:
     Axis m_axis[2];
 };
 
+// A separable filter with negative lobes (pbrt-v4's "mitchell" and "sinc"), tabulated per axis
+// in bins 1/64 of a pixel wide. Offsets are drawn in proportion to |f| and carry the sign of f
+// in their weight, scaled so that weights average 1 (pbrt-v4's FilterSampler: f / pdf, up to
+// that constant, which the film's weighted average cancels). eval() and integral() are the
+// table's, signed, for splats.
+class SignedSeparableFilter final : public Filter {
+public:
+    template <typename F>
+    SignedSeparableFilter(Vec2 r, F&& f1d) : m_r(r) {
+        for (int a = 0; a < 2; ++a) {
+            Axis& ax = m_axis[a];
+            ax.r = a == 0 ? r.x : r.y;
+            int bins = std::max(8, int(std::ceil(2 * ax.r * 64)));
+            float width = 2 * ax.r / float(bins);
+            ax.f.resize(bins);
+            ax.cdf.resize(bins + 1);
+            ax.cdf[0] = 0;
+            double signed_sum = 0;
+            for (int i = 0; i < bins; ++i) {
+                ax.f[i] = f1d(-ax.r + (i + 0.5f) * width, ax.r);
+                ax.cdf[i + 1] = ax.cdf[i] + std::abs(ax.f[i]);
+                signed_sum += ax.f[i];
+            }
+            ax.integral = float(signed_sum * width);
+            ax.weight = float(ax.cdf[bins] / signed_sum);
+            for (float& c : ax.cdf) c /= ax.cdf[bins];
+        }
+    }
+    Vec2 radius() const override { return m_r; }
+    float eval(const Vec2& p) const override { return m_axis[0].eval(p.x) * m_axis[1].eval(p.y); }
+    float integral() const override { return m_axis[0].integral * m_axis[1].integral; }
+    FilterSample sample(const Vec2& u) const override {
+        float wx, wy;
+        Vec2 p(m_axis[0].sample(u.x, &wx), m_axis[1].sample(u.y, &wy));
+        return {p, wx * wy};
+    }
+
+private:
+    struct Axis {
+        float r, integral = 0, weight = 1;
+        std::vector<float> f, cdf;
+        float eval(float x) const {
+            if (std::abs(x) > r) return 0.f;
+            int bins = int(f.size());
+            return f[std::min(bins - 1, int((x + r) / (2 * r) * bins))];
+        }
+        float sample(float u, float* w) const {
+            int bins = int(f.size());
+            int i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
+            i = std::clamp(i, 0, bins - 1);
+            while (i < bins - 1 && cdf[i + 1] == cdf[i]) ++i;  // skip bins of zero mass
+            float span = cdf[i + 1] - cdf[i];
+            float t = span > 0 ? std::clamp((u - cdf[i]) / span, 0.f, 1.f) : 0.5f;
+            *w = f[i] < 0 ? -weight : weight;
+            return -r + (i + t) * 2 * r / bins;
+        }
+    };
+    Vec2 m_r;
+    Axis m_axis[2];
+};
+
+// Mitchell and Netravali's cubic, over |x| <= 2.
+float mitchell_1d(float x, float b, float c) {
+    x = std::abs(x);
+    if (x <= 1)
+        return ((12 - 9 * b - 6 * c) * x * x * x + (-18 + 12 * b + 6 * c) * x * x + (6 - 2 * b)) /
+               6;
+    if (x <= 2)
+        return ((-b - 6 * c) * x * x * x + (6 * b + 30 * c) * x * x + (-12 * b - 48 * c) * x +
+                (8 * b + 24 * c)) /
+               6;
+    return 0;
+}
+
+float sinc(float x) {
+    x *= kPi;
+    return std::abs(x) < 1e-5f ? 1 - x * x / 6 : std::sin(x) / x;
+}
+
 }  // namespace
 
+// Besides the header's three: "mitchell" (radius 2, B = C = 1/3) and "sinc" (Lanczos, radius 4,
+// tau 3), with pbrt-v4's parameter names.
 std::unique_ptr<Filter> create_filter(const std::string& name, const ParameterList& params,
                                       const FileLoc& loc) {
     auto radius = [&](float def) {
@@ -133,8 +215,23 @@ std::unique_ptr<Filter> create_filter(const std::string& name, const ParameterLi
         if (!(sigma > 0)) throw_input_error(loc, "gaussian filter \"sigma\" must be positive");
         return std::make_unique<GaussianFilter>(r, sigma);
     }
-    throw_input_error(loc, "unsupported pixel filter \"{}\" (box, gaussian and triangle are)",
-                      name);
+    if (name == "mitchell") {
+        Vec2 r = radius(2.f);
+        float b = params.get_float("B", 1.f / 3), c = params.get_float("C", 1.f / 3);
+        // pbrt-v4 stretches the cubic's [-2, 2] over the radius.
+        return std::make_unique<SignedSeparableFilter>(
+            r, [b, c](float x, float rx) { return mitchell_1d(2 * x / rx, b, c); });
+    }
+    if (name == "sinc") {
+        Vec2 r = radius(4.f);
+        float tau = params.get_float("tau", 3.f);
+        if (!(tau > 0)) throw_input_error(loc, "sinc filter \"tau\" must be positive");
+        // Lanczos: sinc windowed by a sinc tau times wider, cut at the radius.
+        return std::make_unique<SignedSeparableFilter>(
+            r, [tau](float x, float) { return sinc(x) * sinc(x / tau); });
+    }
+    throw_input_error(
+        loc, "unknown pixel filter \"{}\" (box, gaussian, triangle, mitchell and sinc)", name);
 }
 
 }  // namespace ml

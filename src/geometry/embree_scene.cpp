@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <source_location>
@@ -11,6 +12,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/rng.h"
 #include "core/stats.h"
 
 namespace ml {
@@ -39,6 +41,49 @@ const char* embree_error_name(RTCError code) {
             return "cancelled";
     }
     return "error";
+}
+
+uint64_t float_bits(float a, float b) {
+    uint32_t x, y;
+    std::memcpy(&x, &a, 4);
+    std::memcpy(&y, &b, 4);
+    return uint64_t(x) | (uint64_t(y) << 32);
+}
+
+// pbrt-v4's stochastic alpha test, as an Embree filter: a candidate hit on a cut-out mesh is
+// dropped where alpha is 0, and where alpha is fractional when a uniform number drawn by hashing
+// the ray (origin and direction, as pbrt-v4's HashFloat(ray.o, ray.d)) and the triangle exceeds
+// alpha. Hashing rather than sampling keeps the test the same for the same ray, and the triangle
+// in the hash keeps layers of cut-outs along one ray independent (pbrt-v4 gets that by
+// re-spawning the ray past each rejected hit). Camera, bounce and shadow rays share the filter.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* mesh = static_cast<const TriangleMesh*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        RTCRayN* ray = args->ray;
+        RTCHitN* hit = args->hit;
+        const unsigned N = args->N;
+        Vec3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
+        Vec3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+        const float t = RTCRayN_tfar(ray, N, i);
+        const unsigned prim = RTCHitN_primID(hit, N, i);
+        const float u = RTCHitN_u(hit, N, i), v = RTCHitN_v(hit, N, i), w = 1.f - u - v;
+        Vec2 uv0(0, 0), uv1(1, 0), uv2(1, 1);
+        if (!mesh->uv.empty()) {
+            uv0 = mesh->uv[mesh->indices[3 * prim]];
+            uv1 = mesh->uv[mesh->indices[3 * prim + 1]];
+            uv2 = mesh->uv[mesh->indices[3 * prim + 2]];
+        }
+        float a = mesh->alpha->eval(o + d * t, uv0 * w + uv1 * u + uv2 * v);
+        if (a >= 1) continue;
+        bool keep = false;
+        if (a > 0) {
+            uint64_t h =
+                hash_ints(float_bits(o.x, o.y), float_bits(o.z, d.x), float_bits(d.y, d.z), prim);
+            keep = float(h >> 40) * 0x1p-24f < a;
+        }
+        if (!keep) args->valid[i] = 0;
+    }
 }
 
 }  // namespace
@@ -103,6 +148,11 @@ EmbreeScene::EmbreeScene(const std::vector<const TriangleMesh*>& meshes, float t
         }
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, m.indices.data(),
                                    0, 3 * sizeof(uint32_t), m.triangle_count());
+        if (m.alpha) {
+            rtcSetGeometryUserData(g, const_cast<TriangleMesh*>(&m));
+            rtcSetGeometryIntersectFilterFunction(g, &alpha_filter);
+            rtcSetGeometryOccludedFilterFunction(g, &alpha_filter);
+        }
         rtcCommitGeometry(g);
         rtcAttachGeometryByID(m_impl->scene, g, unsigned(i));
         rtcReleaseGeometry(g);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/math.h"
@@ -11,6 +12,14 @@ namespace ml {
 
 class Material;
 class Light;
+
+// A cut-out (pbrt-v4's "alpha" on a shape): at a point of the surface, the probability that the
+// surface is there. Given by the scene layer (a float texture); geometry only evaluates it.
+class AlphaMask {
+public:
+    virtual ~AlphaMask() = default;
+    virtual float eval(const Vec3& p, const Vec2& uv) const = 0;
+};
 
 struct TriangleMesh {
     std::vector<Vec3> p;            // positions, world space
@@ -21,6 +30,9 @@ struct TriangleMesh {
     bool flip_normals = false;
     const Material* material = nullptr;
     const Light* area_light = nullptr;  // set when the mesh emits
+    // Null: opaque. Else every ray (camera, bounce and shadow rays alike) passes through the
+    // surface where the mask is 0, and with probability 1 - alpha where it is fractional.
+    std::shared_ptr<const AlphaMask> alpha;
     // Motion (a shape under an animated transform): the positions and normals at
     // motion_steps >= 2 times spread evenly over the transform times, step after step
     // (motion_p[k * p.size() + v]); between two steps each vertex moves linearly (Embree's

@@ -51,6 +51,11 @@ std::unique_ptr<TriangleMesh> make_triangle_mesh(const ParameterList& params, co
                           mesh->uv.size(), mesh->p.size());
     if (params.find("N") && mesh->n.empty())
         throw_input_error(params.find("N")->loc, "trianglemesh: \"normal N\" is empty");
+    if (const Param* s = params.find("S"))
+        throw_input_error(s->loc,
+                          "trianglemesh: per-vertex tangents \"S\" are not supported by manylight");
+    // Per-face indices only serve pbrt-v4's ptex textures (refused where declared).
+    params.get_ints("faceIndices");
     if (params.find("uv") && mesh->uv.empty())
         throw_input_error(params.find("uv")->loc, "trianglemesh: \"point2 uv\" is empty");
     return mesh;
@@ -88,6 +93,11 @@ std::unique_ptr<TriangleMesh> make_bilinear_mesh(const ParameterList& params, co
         throw_input_error(params.find("uv")->loc,
                           "bilinearmesh: {} texture coordinates \"uv\" for {} vertices \"P\"",
                           mesh->uv.size(), mesh->p.size());
+    params.get_ints("faceIndices");  // for ptex only, as in trianglemesh
+    if (const Param* e = params.find("emissionfilename"))
+        throw_input_error(e->loc,
+                          "bilinearmesh: \"emissionfilename\" (image emission) is not supported "
+                          "by manylight");
     return mesh;
 }
 

@@ -45,6 +45,8 @@ float rescale(float target, float k_e) { return target > 0 && k_e > 0 ? target /
 
 std::unique_ptr<Light> create_infinite(const ParameterList& params, const Transform& to_world,
                                        const std::string& base_dir, const FileLoc& loc) {
+    if (const Param* portal = params.find("portal"))
+        throw_input_error(portal->loc, "infinite light: \"portal\" is not supported by manylight");
     float scale = get_scale(params, loc);
     std::string filename = params.get_string("filename", "");
     bool has_L = params.has("L");
@@ -101,13 +103,19 @@ std::unique_ptr<Light> create_light(const std::string& type, const ParameterList
         Vec3 from = params.get_point3("from").value_or(Vec3(0, 0, 0));
         Vec3 to = params.get_point3("to").value_or(Vec3(0, 0, 1));
         float cone = params.get_float("coneangle", 30.f);
-        float delta = params.get_float("conedelta", 5.f);
+        // pbrt-v4's name; "conedelta" (no such pbrt-v4 parameter) stays an error, with a hint.
+        if (const Param* wrong = params.find("conedelta"))
+            throw_input_error(wrong->loc,
+                              "spot light: pbrt-v4 has no \"conedelta\"; the falloff angle is "
+                              "\"float conedeltaangle\"");
+        float delta = params.get_float("conedeltaangle", 5.f);
         if (!(cone > 0 && cone <= 180))
             throw_input_error(loc_of(params, "coneangle", loc),
                               "spot light: \"coneangle\" must be in (0, 180], got {}", cone);
         if (!(delta >= 0 && delta <= cone))
-            throw_input_error(loc_of(params, "conedelta", loc),
-                              "spot light: \"conedelta\" must be in [0, coneangle], got {}", delta);
+            throw_input_error(loc_of(params, "conedeltaangle", loc),
+                              "spot light: \"conedeltaangle\" must be in [0, coneangle], got {}",
+                              delta);
         Vec3 axis = light_to_world.vector(to - from);
         if (!(length_squared(axis) > 0))
             throw_input_error(loc, "spot light: \"from\" and \"to\" must differ");
@@ -130,7 +138,7 @@ std::unique_ptr<Light> create_light(const std::string& type, const ParameterList
     }
     if (type == "infinite") return create_infinite(params, light_to_world, base_dir, loc);
     if (type == "goniometric" || type == "projection")
-        throw_input_error(loc, "light \"{}\" is not supported", type);
+        throw_input_error(loc, "the pbrt-v4 light \"{}\" is not supported by manylight", type);
     throw_input_error(loc, "unknown light type \"{}\"", type);
 }
 

@@ -167,6 +167,11 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         return std::make_unique<CoatedDiffuseMaterial>(reflectance, eta, roughness, thickness.value,
                                                        maxdepth, displacement);
     }
+    for (const char* pbrt : {"coatedconductor", "thindielectric", "mix", "hair", "measured",
+                             "subsurface", "interface"})
+        if (type == pbrt)
+            throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
+                              type);
     throw_input_error(loc, "unknown material type \"{}\"", type);
 }
 

@@ -20,10 +20,12 @@ struct ImageCache {
 };
 
 // `Texture "name" "float"|"spectrum" "class" params...`; adds it to `textures`. Relative file
-// names resolve against `base_dir`.
+// names resolve against `base_dir`; `to_world` is the CTM at the directive (texture space, for
+// the spherical, cylindrical and planar mappings and 3D textures).
 void create_texture(const std::string& name, const std::string& kind, const std::string& cls,
                     const ParameterList& params, const std::string& base_dir,
-                    NamedTextures& textures, ImageCache& images, const FileLoc& loc);
+                    NamedTextures& textures, ImageCache& images, const FileLoc& loc,
+                    const Transform& to_world = Transform());
 
 // `Material "type" params...` / `MakeNamedMaterial` with "string type". Throws InputError for an
 // unknown type or an undefined texture.

@@ -30,8 +30,45 @@ RGB ImageLookup::texel(int x, int y) const {
     return m_image->at(x, y);
 }
 
-RGB ImageLookup::lookup(const Vec2& uv) const {
-    Vec2 st = m_mapping.map(uv);
+// ---- mappings ----
+
+Vec2 TextureMapping2D::map(const TextureEvalContext& ctx) const {
+    if (kind == Kind::UV) return {su * ctx.uv.x + du, sv * ctx.uv.y + dv};
+    Vec3 p = world_to_texture.point(ctx.p);
+    switch (kind) {
+        case Kind::Spherical: {
+            float len = length(p);
+            if (!(len > 0)) return {0, 0};
+            Vec3 w = p / len;
+            float theta = std::acos(std::clamp(w.z, -1.f, 1.f));
+            float phi = std::atan2(w.y, w.x);
+            if (phi < 0) phi += 2 * kPi;
+            return {theta / kPi, phi / (2 * kPi)};
+        }
+        case Kind::Cylindrical:
+            return {(kPi + std::atan2(p.y, p.x)) / (2 * kPi), p.z};
+        case Kind::Planar:
+            return {du + dot(p, v1), dv + dot(p, v2)};
+        case Kind::UV:
+            break;
+    }
+    return ctx.uv;
+}
+
+bool Checkerboard::second(const TextureEvalContext& ctx) const {
+    if (dimension == 3) {
+        Vec3 p = world_to_texture.point(ctx.p);
+        int64_t sum =
+            int64_t(std::floor(p.x)) + int64_t(std::floor(p.y)) + int64_t(std::floor(p.z));
+        return (sum & 1) != 0;
+    }
+    Vec2 st = map2d.map(ctx);
+    int64_t sum = int64_t(std::floor(st.x)) + int64_t(std::floor(st.y));
+    return (sum & 1) != 0;
+}
+
+RGB ImageLookup::lookup(const TextureEvalContext& ctx) const {
+    Vec2 st = m_mapping.map(ctx);
     st.y = 1 - st.y;  // image rows run top to bottom; v runs bottom to top
     float x = st.x * m_image->width, y = st.y * m_image->height;
     if (m_point) return texel(int(std::floor(x)), int(std::floor(y)));
@@ -46,12 +83,12 @@ RGB ImageLookup::lookup(const Vec2& uv) const {
 }
 
 RGB ImageRGBTexture::eval(const TextureEvalContext& ctx) const {
-    RGB v = m_lookup.lookup(ctx.uv) * m_scale;
+    RGB v = m_lookup.lookup(ctx) * m_scale;
     return clamp_zero(m_invert ? RGB(1) - v : v);
 }
 
 float ImageFloatTexture::eval(const TextureEvalContext& ctx) const {
-    float v = m_lookup.lookup(ctx.uv).r * m_scale;
+    float v = m_lookup.lookup(ctx).r * m_scale;
     return m_invert ? std::max(0.f, 1 - v) : v;
 }
 
@@ -142,15 +179,37 @@ std::string resolve_path(const std::string& name, const std::string& base_dir) {
     return (std::filesystem::path(base_dir) / p).lexically_normal().string();
 }
 
-UVMapping parse_mapping(const ParameterList& params, const FileLoc& loc) {
+const FileLoc& loc_of(const ParameterList& params, const std::string& name, const FileLoc& def) {
+    for (const Param& p : params.params())
+        if (p.name == name) return p.loc;
+    return def;
+}
+
+TextureMapping2D parse_mapping(const ParameterList& params, const Transform& to_world,
+                               const FileLoc& loc) {
+    TextureMapping2D m;
+    m.world_to_texture = to_world.inverse();
     std::string type = params.get_string("mapping", "uv");
-    if (type != "uv")
-        throw_input_error(loc, "texture mapping \"{}\" is not supported (only \"uv\")", type);
-    UVMapping m;
-    m.su = params.get_float("uscale", 1);
-    m.sv = params.get_float("vscale", 1);
-    m.du = params.get_float("udelta", 0);
-    m.dv = params.get_float("vdelta", 0);
+    if (type == "uv") {
+        m.su = params.get_float("uscale", 1);
+        m.sv = params.get_float("vscale", 1);
+        m.du = params.get_float("udelta", 0);
+        m.dv = params.get_float("vdelta", 0);
+    } else if (type == "spherical") {
+        m.kind = TextureMapping2D::Kind::Spherical;
+    } else if (type == "cylindrical") {
+        m.kind = TextureMapping2D::Kind::Cylindrical;
+    } else if (type == "planar") {
+        m.kind = TextureMapping2D::Kind::Planar;
+        m.v1 = params.get_point3("v1").value_or(Vec3(1, 0, 0));
+        m.v2 = params.get_point3("v2").value_or(Vec3(0, 1, 0));
+        m.du = params.get_float("udelta", 0);
+        m.dv = params.get_float("vdelta", 0);
+    } else {
+        throw_input_error(loc_of(params, "mapping", loc),
+                          "unknown texture mapping \"{}\" (uv, spherical, cylindrical or planar)",
+                          type);
+    }
     return m;
 }
 
@@ -161,15 +220,9 @@ WrapMode parse_wrap(const std::string& s, const FileLoc& loc) {
     throw_input_error(loc, "unknown wrap mode \"{}\" (expected repeat, black or clamp)", s);
 }
 
-const FileLoc& loc_of(const ParameterList& params, const std::string& name, const FileLoc& def) {
-    for (const Param& p : params.params())
-        if (p.name == name) return p.loc;
-    return def;
-}
-
-ImageLookup make_image_lookup(const ParameterList& params, const std::string& base_dir,
-                              ImageCache& images, const FileLoc& loc) {
-    UVMapping mapping = parse_mapping(params, loc);
+ImageLookup make_image_lookup(const ParameterList& params, const Transform& to_world,
+                              const std::string& base_dir, ImageCache& images, const FileLoc& loc) {
+    TextureMapping2D mapping = parse_mapping(params, to_world, loc);
     std::string filter = params.get_string("filter", "bilinear");
     if (filter != "point" && filter != "bilinear" && filter != "trilinear" && filter != "ewa")
         throw_input_error(loc_of(params, "filter", loc),
@@ -194,7 +247,8 @@ ImageLookup make_image_lookup(const ParameterList& params, const std::string& ba
 
 void create_texture(const std::string& name, const std::string& kind, const std::string& cls,
                     const ParameterList& params, const std::string& base_dir,
-                    NamedTextures& textures, ImageCache& images, const FileLoc& loc) {
+                    NamedTextures& textures, ImageCache& images, const FileLoc& loc,
+                    const Transform& to_world) {
     const bool is_float = kind == "float";
     if (!is_float && kind != "spectrum")
         throw_input_error(loc, "unknown texture kind \"{}\" (expected \"float\" or \"spectrum\")",
@@ -238,15 +292,36 @@ void create_texture(const std::string& name, const std::string& kind, const std:
         else
             textures.rgbs[name] = std::make_shared<ScaleRGBTexture>(rgb_arg("tex", RGB(1)), scale);
     } else if (cls == "imagemap") {
-        ImageLookup lookup = make_image_lookup(params, base_dir, images, loc);
+        ImageLookup lookup = make_image_lookup(params, to_world, base_dir, images, loc);
         float scale = params.get_float("scale", 1);
         bool invert = params.get_bool("invert", false);
         if (is_float)
             textures.floats[name] = std::make_shared<ImageFloatTexture>(lookup, scale, invert);
         else
             textures.rgbs[name] = std::make_shared<ImageRGBTexture>(lookup, scale, invert);
+    } else if (cls == "checkerboard") {
+        Checkerboard board;
+        board.dimension = params.get_int("dimension", 2);
+        if (board.dimension != 2 && board.dimension != 3)
+            throw_input_error(loc_of(params, "dimension", loc),
+                              "checkerboard: \"dimension\" must be 2 or 3, got {}",
+                              board.dimension);
+        if (board.dimension == 2)
+            board.map2d = parse_mapping(params, to_world, loc);
+        else
+            board.world_to_texture = to_world.inverse();
+        if (is_float)
+            textures.floats[name] = std::make_shared<CheckerboardFloatTexture>(
+                board, float_arg("tex1", 1), float_arg("tex2", 0));
+        else
+            textures.rgbs[name] = std::make_shared<CheckerboardRGBTexture>(
+                board, rgb_arg("tex1", RGB(1)), rgb_arg("tex2", RGB(0)));
+    } else if (cls == "bilerp" || cls == "dots" || cls == "fbm" || cls == "wrinkled" ||
+               cls == "windy" || cls == "marble" || cls == "mix" || cls == "directionmix" ||
+               cls == "ptex") {
+        throw_input_error(loc, "the pbrt-v4 texture \"{}\" is not supported by manylight", cls);
     } else {
-        throw_input_error(loc, "unknown or unsupported texture class \"{}\"", cls);
+        throw_input_error(loc, "unknown texture class \"{}\"", cls);
     }
 }
 

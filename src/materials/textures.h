@@ -68,10 +68,21 @@ private:
     std::shared_ptr<FloatTexture> m_scale;
 };
 
-// pbrt-v4's "uv" mapping: st = (su u + du, sv v + dv).
-struct UVMapping {
+// pbrt-v4's 2D texture mappings ("mapping" with its parameters): where a point of a surface
+// lands in the texture's (s, t) plane.
+//   uv:          (uscale u + udelta, vscale v + vdelta)
+//   spherical:   (theta / pi, phi / 2 pi) of the point's direction from the texture-space
+//                origin (theta from +z, phi from +x towards +y in [0, 2 pi))
+//   cylindrical: ((pi + atan2(y, x)) / 2 pi, z) of the texture-space point
+//   planar:      (udelta + p . v1, vdelta + p . v2) of the texture-space point
+// Texture space is the CTM at the Texture directive.
+struct TextureMapping2D {
+    enum class Kind { UV, Spherical, Cylindrical, Planar };
+    Kind kind = Kind::UV;
     float su = 1, sv = 1, du = 0, dv = 0;
-    Vec2 map(const Vec2& uv) const { return {su * uv.x + du, sv * uv.y + dv}; }
+    Vec3 v1{1, 0, 0}, v2{0, 1, 0};
+    Transform world_to_texture;
+    Vec2 map(const TextureEvalContext& ctx) const;
 };
 
 enum class WrapMode { Repeat, Black, Clamp };
@@ -80,16 +91,17 @@ enum class WrapMode { Repeat, Black, Clamp };
 // (any sRGB or gamma decode was done once, at load).
 class ImageLookup {
 public:
-    ImageLookup(std::shared_ptr<const Image> image, UVMapping mapping, WrapMode wrap, bool point)
+    ImageLookup(std::shared_ptr<const Image> image, TextureMapping2D mapping, WrapMode wrap,
+                bool point)
         : m_image(std::move(image)), m_mapping(mapping), m_wrap(wrap), m_point(point) {}
-    // The filtered texel value at texture coordinates uv (v flipped, as pbrt-v4 does: v = 0 is
-    // the bottom row of the image).
-    RGB lookup(const Vec2& uv) const;
+    // The filtered texel value where the mapping takes the context (t flipped, as pbrt-v4 does:
+    // t = 0 is the bottom row of the image).
+    RGB lookup(const TextureEvalContext& ctx) const;
 
 private:
     RGB texel(int x, int y) const;
     std::shared_ptr<const Image> m_image;
-    UVMapping m_mapping;
+    TextureMapping2D m_mapping;
     WrapMode m_wrap;
     bool m_point;
 };
@@ -118,5 +130,34 @@ private:
     float m_scale;
     bool m_invert;
 };
+
+// pbrt-v4's "checkerboard": tex1 on the squares whose integer corners (floor s, floor t), or
+// (floor x, floor y, floor z) of the texture-space point for dimension 3, sum to an even number,
+// tex2 on the others. Point-sampled: pbrt-v4 box-filters the edges over the pixel's footprint,
+// which changes nothing in expectation once a pixel's samples cover it.
+struct Checkerboard {
+    int dimension = 2;
+    TextureMapping2D map2d;      // dimension 2
+    Transform world_to_texture;  // dimension 3
+    // True where tex2 shows.
+    bool second(const TextureEvalContext& ctx) const;
+};
+
+// tex1 and tex2 (float or RGB textures) on the squares of a Checkerboard.
+template <typename Base, typename Value>
+class CheckerboardTexture final : public Base {
+public:
+    CheckerboardTexture(Checkerboard board, std::shared_ptr<Base> tex1, std::shared_ptr<Base> tex2)
+        : m_board(std::move(board)), m_tex1(std::move(tex1)), m_tex2(std::move(tex2)) {}
+    Value eval(const TextureEvalContext& ctx) const override {
+        return m_board.second(ctx) ? m_tex2->eval(ctx) : m_tex1->eval(ctx);
+    }
+
+private:
+    Checkerboard m_board;
+    std::shared_ptr<Base> m_tex1, m_tex2;
+};
+using CheckerboardFloatTexture = CheckerboardTexture<FloatTexture, float>;
+using CheckerboardRGBTexture = CheckerboardTexture<RGBTexture, RGB>;
 
 }  // namespace ml

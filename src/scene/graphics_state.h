@@ -68,6 +68,7 @@ struct ShapeRecord {
     const Material* material;
     std::shared_ptr<const AreaLightSpec> area_light;  // null: does not emit
     FileLoc loc;                                      // the Shape or ObjectInstance directive
+    std::shared_ptr<const AlphaMask> alpha;           // "alpha": null where opaque
 };
 
 // ObjectBegin ... ObjectEnd: shapes relative to the CTM at each ObjectInstance.

@@ -374,7 +374,15 @@ void Parser::directive(const Token& t) {
         double start = expect_number(t);
         double end = expect_number(t);
         b.transform_times(start, end, loc);
-    } else if (d == "Option" || d == "MakeNamedMedium" || d == "MediumInterface") {
+    } else if (d == "Option") {
+        // pbrt-v4: Option "name" value, the value a bare word (true, 4) or a quoted string.
+        std::string n = expect_string(t, "option name");
+        Token v = next();
+        if (v.kind != TokenKind::Word && v.kind != TokenKind::String)
+            syntax_error(v, "Option expects a value after its name");
+        b.option(n, std::string(v.kind == TokenKind::String ? v.value() : v.raw),
+                 v.kind == TokenKind::String, loc);
+    } else if (d == "MakeNamedMedium" || d == "MediumInterface") {
         throw_input_error(loc, "the pbrt-v4 directive \"{}\" is not supported by manylight", name);
     } else {
         double v;

@@ -1,5 +1,6 @@
 #include "scene/scene_builder.h"
 
+#include <cctype>
 #include <cmath>
 #include <exception>
 #include <filesystem>
@@ -8,6 +9,8 @@
 #include "geometry/ply.h"
 #include "geometry/shapes.h"
 #include "lights/create.h"
+#include "materials/textures.h"
+#include "scene/tokenizer.h"
 
 namespace ml {
 
@@ -204,6 +207,57 @@ void SceneBuilder::world_begin(const FileLoc& loc) {
     m_named_frames["world"] = {Transform(), Transform()};
 }
 
+void SceneBuilder::option(const std::string& name, const std::string& value, bool quoted,
+                          const FileLoc& loc) {
+    // pbrt-v4 compares names lower-cased without '_' and '-'; a leading type ("bool x") is
+    // accepted as well, as parameter lists write it.
+    std::string key;
+    for (char c : name.substr(name.find_last_of(" \t") + 1))
+        if (c != '_' && c != '-') key += char(std::tolower(static_cast<unsigned char>(c)));
+    auto expect_bool = [&] {
+        if (quoted || (value != "true" && value != "false"))
+            throw_input_error(loc, "Option \"{}\": expected true or false, got {}", name,
+                              quoted ? "\"" + value + "\"" : value);
+    };
+    auto expect_string = [&] {
+        if (!quoted) throw_input_error(loc, "Option \"{}\": expected a quoted string", name);
+    };
+    // Options that do not change the image manylight makes: output-only ones, pbrt-v4's choice
+    // of engine and render space, spectral sampling (manylight is RGB), texture filtering
+    // (manylight does not filter procedural textures), displacement (refused where it is used).
+    if (key == "wavefront" || key == "pixelstats" || key == "disablewavelengthjitter" ||
+        key == "disabletexturefiltering") {
+        expect_bool();
+    } else if (key == "msereferenceimage" || key == "msereferenceout") {
+        expect_string();
+    } else if (key == "rendercoordsys") {
+        expect_string();
+        if (value != "camera" && value != "cameraworld" && value != "world")
+            throw_input_error(loc,
+                              "Option \"{}\": unknown rendering coordinate system \"{}\" "
+                              "(camera, cameraworld or world)",
+                              name, value);
+    } else if (key == "displacementedgescale") {
+        double v;
+        if (quoted || !parse_number(value, &v))
+            throw_input_error(loc, "Option \"{}\": expected a number", name);
+    } else if (key == "seed") {
+        // Changes the noise only, not the image it converges to; `--seed` sets ours.
+        double v;
+        if (quoted || !parse_number(value, &v) || v != std::floor(v))
+            throw_input_error(loc, "Option \"{}\": expected an integer", name);
+    } else if (key == "disablepixeljitter" || key == "forcediffuse") {
+        expect_bool();
+        if (value == "true")
+            throw_input_error(loc,
+                              "Option \"{}\" true changes the image and is not supported by "
+                              "manylight",
+                              name);
+    } else {
+        throw_input_error(loc, "unknown Option \"{}\"", name);
+    }
+}
+
 void SceneBuilder::camera(const std::string& name, ParameterList params, const FileLoc& loc) {
     // As pbrt: the CTM is the camera's world-to-camera transform, and "camera" names its frame.
     m_desc.world_to_camera = m_state.ctm[0];
@@ -214,6 +268,22 @@ void SceneBuilder::camera(const std::string& name, ParameterList params, const F
 
 void SceneBuilder::entity(SceneEntity SceneDesc::*which, const std::string& name,
                           ParameterList params, const FileLoc& loc) {
+    if (which == &SceneDesc::film) {
+        // What of pbrt-v4's film manylight cannot do, refused here by name (the renderer reads
+        // the rest).
+        if (name == "spectral")
+            throw_input_error(loc,
+                              "the pbrt-v4 film \"spectral\" is not supported by manylight "
+                              "(it renders RGB)");
+        for (const char* crop : {"pixelbounds", "cropwindow"})
+            if (const Param* p = params.find(crop))
+                throw_input_error(p->loc,
+                                  "film: \"{}\" (rendering part of the image) is not "
+                                  "supported by manylight",
+                                  crop);
+        // A gbuffer film's frame for its geometric channels: manylight writes RGB only.
+        if (name == "gbuffer") params.get_string("coordinatesystem", "camera");
+    }
     SceneEntity& e = m_desc.*which;
     e.name = name;
     e.params = std::move(params);
@@ -286,7 +356,8 @@ void SceneBuilder::texture(const std::string& name, const std::string& kind, con
     bool exists = kind == "float" ? m_desc.textures.floats.count(name) != 0
                                   : m_desc.textures.rgbs.count(name) != 0;
     if (exists) throw_input_error(loc, "texture \"{}\" redefined", name);
-    create_texture(name, kind, cls, params, m_desc.base_dir, m_desc.textures, m_images, loc);
+    create_texture(name, kind, cls, params, m_desc.base_dir, m_desc.textures, m_images, loc,
+                   m_state.ctm[0]);
     params.check_unused();
 }
 
@@ -301,14 +372,54 @@ const Material* SceneBuilder::default_material(const FileLoc& loc) {
     return m_default_material;
 }
 
-void SceneBuilder::add_shape(size_t source, const FileLoc& loc) {
+namespace {
+
+// A shape's "alpha" from a float texture or a constant.
+class TextureAlphaMask final : public AlphaMask {
+public:
+    explicit TextureAlphaMask(std::shared_ptr<const FloatTexture> tex) : m_tex(std::move(tex)) {}
+    float eval(const Vec3& p, const Vec2& uv) const override { return m_tex->eval({p, uv}); }
+
+private:
+    std::shared_ptr<const FloatTexture> m_tex;
+};
+
+}  // namespace
+
+std::shared_ptr<const AlphaMask> SceneBuilder::shape_alpha(const ParameterList& params) const {
+    const Param* p = params.find("alpha");
+    if (!p) return nullptr;
+    std::shared_ptr<const FloatTexture> tex;
+    if (p->type == "texture") {
+        std::string name = params.get_texture("alpha");
+        auto it = m_desc.textures.floats.find(name);
+        if (it == m_desc.textures.floats.end())
+            throw_input_error(p->loc, "\"alpha\": undefined float texture \"{}\"", name);
+        tex = it->second;
+    } else {
+        // As pbrt-v4: a constant alpha of 1 (or more) is no cut-out at all.
+        float a = params.get_float("alpha", 1);
+        if (a >= 1) return nullptr;
+        tex = std::make_shared<ConstantFloatTexture>(a);
+    }
+    if (m_state.area_light && !m_current_object)
+        throw_input_error(p->loc,
+                          "\"alpha\" on an emitting shape (AreaLightSource at {}) is not "
+                          "supported by manylight",
+                          m_state.area_light->loc.to_string());
+    return std::make_shared<TextureAlphaMask>(std::move(tex));
+}
+
+void SceneBuilder::add_shape(size_t source, std::shared_ptr<const AlphaMask> alpha,
+                             const FileLoc& loc) {
     ShapeRecord r{source,
                   {m_state.ctm[0], m_state.ctm[1]},
                   {Transform(), Transform()},
                   m_state.reverse_orientation,
                   m_state.material,
                   m_state.area_light,
-                  loc};
+                  loc,
+                  std::move(alpha)};
     if (m_current_object) {
         // As pbrt-v4: area lights are ignored inside object instances.
         r.area_light = nullptr;
@@ -345,9 +456,12 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         std::error_code ec;
         if (!std::filesystem::exists(src.ply_path, ec))
             throw_input_error(f->loc, "{}: no such file", src.ply_path);
+    } else if (type == "cylinder" || type == "curve" || type == "loopsubdiv") {
+        throw_input_error(loc, "the pbrt-v4 shape \"{}\" is not supported by manylight", type);
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);
     }
+    auto alpha = shape_alpha(params);
     params.check_unused();
     m_sources.push_back(std::move(src));
     if (!m_sources.back().ply_path.empty()) {
@@ -361,7 +475,7 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
             }
         });
     }
-    add_shape(m_sources.size() - 1, loc);
+    add_shape(m_sources.size() - 1, std::move(alpha), loc);
 }
 
 void SceneBuilder::light_source(const std::string& type, const ParameterList& params,
@@ -432,6 +546,7 @@ SceneDesc SceneBuilder::finish() {
         else
             transform_mesh(*mesh, r.instance[0] * r.to_world[0], r.reverse_orientation);
         mesh->material = r.material;
+        mesh->alpha = r.alpha;
         m_desc.meshes[i] = std::move(mesh);
     });
 

@@ -56,6 +56,10 @@ public:
     void object_instance(const std::string& name, const FileLoc& loc);
     void world_begin(const FileLoc& loc);
 
+    // `Option "name" value`: the options that leave the image unchanged are accepted and
+    // ignored; the others are refused (manylight has no way to honour them).
+    void option(const std::string& name, const std::string& value, bool quoted, const FileLoc& loc);
+
     // Camera, Film, Sampler, PixelFilter, Integrator: kept for the renderer, unchecked.
     void camera(const std::string& name, ParameterList params, const FileLoc& loc);
     void entity(SceneEntity SceneDesc::*which, const std::string& name, ParameterList params,
@@ -82,7 +86,8 @@ public:
 
 private:
     const Material* default_material(const FileLoc& loc);
-    void add_shape(size_t source, const FileLoc& loc);
+    void add_shape(size_t source, std::shared_ptr<const AlphaMask> alpha, const FileLoc& loc);
+    std::shared_ptr<const AlphaMask> shape_alpha(const ParameterList& params) const;
     void set_ctm(const Transform& t);
     void concat(const Transform& t);
     bool ctm_animated() const;
