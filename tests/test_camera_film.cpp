@@ -102,7 +102,9 @@ TEST(Filter, NegativeLobesCarryNegativeWeightsAveragingOne) {
         ParameterList p;
         auto filter = create_filter(name, p, {});
         // The table's integral is the filter's: Mitchell's is r^2 / 4 per pbrt-v4 (1 at radius 2).
-        if (std::string(name) == "mitchell") EXPECT_NEAR(filter->integral(), 1.f, 1e-3f);
+        if (std::string(name) == "mitchell") {
+            EXPECT_NEAR(filter->integral(), 1.f, 1e-3f);
+        }
         Rng rng(7);
         double sw = 0;
         int negative = 0, sign_differs = 0;  // (at most at a sign change, on a bin's edge)

@@ -47,9 +47,10 @@ TEST(SettingsReference, EverySettingHasADescriptionAndARange) {
                 << d.key << " (integrator " << info.name
                 << ") has no description: give the SettingDoc argument of the get_" << d.type
                 << " call that reads it";
-            if (d.type != "bool")
+            if (d.type != "bool") {
                 EXPECT_FALSE(d.range.empty())
                     << d.key << " (integrator " << info.name << ") has no range in its SettingDoc";
+            }
         }
 }
 
