@@ -41,4 +41,4 @@ for k in range(n):
     s = random.uniform(1.5, 4.0)
     print(f'LightSource "spot" "rgb I" [ {r * s:.4f} {g * s:.4f} {b * s:.4f} ] '
           f'"point3 from" [ {x:.3f} 4 {z:.3f} ] "point3 to" [ {tx:.3f} 0 {tz:.3f} ] '
-          f'"float coneangle" [ {cone:.2f} ] "float conedelta" [ {delta:.2f} ]')
+          f'"float coneangle" [ {cone:.2f} ] "float conedeltaangle" [ {delta:.2f} ]')

@@ -205,7 +205,8 @@ std::string spot_stage_scene() {
             float cone = 10 + 15 * rng.next_float();
             s += fmt::format(
                 "LightSource \"spot\" \"rgb I\" [ {} {} {} ] \"point3 from\" [ {} 1.5 {} ] "
-                "\"point3 to\" [ {} 0 {} ] \"float coneangle\" [ {} ] \"float conedelta\" [ 3 ]\n",
+                "\"point3 to\" [ {} 0 {} ] \"float coneangle\" [ {} ] \"float conedeltaangle\" [ 3 "
+                "]\n",
                 c.r, c.g, c.b, -2 + 4 * (i + 0.5) / 8, -2 + 4 * (j + 0.5) / 8, tx, tz, cone);
         }
     return s;
