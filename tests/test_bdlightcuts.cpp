@@ -575,32 +575,35 @@ TEST(BdLightcuts, AdaptiveSamplingGivesTheSameImageAtOneAndTwoThreads) {
 // rare bright representatives went missing (here classroom -9%, veach-ajar -5%: 4 to 5 standard
 // errors). Image means over seeds (each seed its own VPL sets, the noise shared by the whole
 // image), against path's over seeds, per channel, within 4 standard errors of the difference.
-TEST(BdLightcuts, AgreesWithPathOnTheClassroomAndVeachAjar) {
-    ML_NEED_SHARED("scenes/classroom/scene-v4.pbrt");
-    ML_NEED_SHARED("scenes/veach-ajar/scene-v4.pbrt");
+namespace {
+struct SeedMeans {
+    double mean = 0, stderr_of_mean = 0;
+};
+// The image means of `seeds` renders of `file`, per channel: their mean and its standard error.
+std::array<SeedMeans, 3> seed_means(const std::string& file, RenderOptions opt, int seeds) {
+    std::array<std::vector<double>, 3> m;
+    for (int s = 1; s <= seeds; ++s) {
+        opt.seed = uint64_t(s);
+        const Image img = render_scene(parse_scene_file(file), opt).image;
+        for (int c = 0; c < 3; ++c) m[size_t(c)].push_back(test::channel_stats(img, c).mean);
+    }
+    std::array<SeedMeans, 3> out;
+    for (int c = 0; c < 3; ++c) {
+        double a = 0, a2 = 0;
+        for (double v : m[size_t(c)]) a += v, a2 += v * v;
+        a /= seeds;
+        out[size_t(c)] = {a, std::sqrt(std::max(0.0, a2 / seeds - a * a) / (seeds - 1))};
+    }
+    return out;
+}
+
+// bdlightcuts (bd_spp, bd_seeds) against path (path_spp, 4 seeds) on the classroom (32x18) and
+// veach-ajar (24x24), per channel within 4 standard errors of the difference; max_depth 0: the
+// scenes' own.
+void expect_bdlightcuts_agrees_with_path(int max_depth, int bd_spp, int bd_seeds, int path_spp) {
     struct Case {
         const char* scene;
         int width, height;
-    };
-    struct Means {
-        double mean = 0, stderr_of_mean = 0;
-    };
-    // The image means of `seeds` renders, per channel: their mean and its standard error.
-    auto seed_means = [](const std::string& file, RenderOptions opt, int seeds) {
-        std::array<std::vector<double>, 3> m;
-        for (int s = 1; s <= seeds; ++s) {
-            opt.seed = uint64_t(s);
-            const Image img = render_scene(parse_scene_file(file), opt).image;
-            for (int c = 0; c < 3; ++c) m[size_t(c)].push_back(test::channel_stats(img, c).mean);
-        }
-        std::array<Means, 3> out;
-        for (int c = 0; c < 3; ++c) {
-            double a = 0, a2 = 0;
-            for (double v : m[size_t(c)]) a += v, a2 += v * v;
-            a /= seeds;
-            out[size_t(c)] = {a, std::sqrt(std::max(0.0, a2 / seeds - a * a) / (seeds - 1))};
-        }
-        return out;
     };
     for (const Case& k : {Case{"classroom", 32, 18}, Case{"veach-ajar", 24, 24}}) {
         const std::string file = ml::test::shared_dir() + "/scenes/" + k.scene + "/scene-v4.pbrt";
@@ -608,19 +611,38 @@ TEST(BdLightcuts, AgreesWithPathOnTheClassroomAndVeachAjar) {
         opt.width = k.width;
         opt.height = k.height;
         opt.threads = 2;
+        if (max_depth > 0) opt.max_depth = max_depth;
         opt.integrator = "path";
-        opt.spp = 512;
-        const std::array<Means, 3> path = seed_means(file, opt, 4);
+        opt.spp = path_spp;
+        const std::array<SeedMeans, 3> path = seed_means(file, opt, 4);
         opt.integrator = "bdlightcuts";
-        opt.spp = 32;
-        const std::array<Means, 3> bd = seed_means(file, opt, 12);
+        opt.spp = bd_spp;
+        const std::array<SeedMeans, 3> bd = seed_means(file, opt, bd_seeds);
         for (int c = 0; c < 3; ++c) {
-            const Means &b = bd[size_t(c)], &p = path[size_t(c)];
-            std::printf("%s channel %d: bdlightcuts %.5f (se %.5f), path %.5f (se %.5f): %+.2f%%\n",
-                        k.scene, c, b.mean, b.stderr_of_mean, p.mean, p.stderr_of_mean,
-                        100 * (b.mean / p.mean - 1));
+            const SeedMeans &b = bd[size_t(c)], &p = path[size_t(c)];
+            std::printf(
+                "%s max depth %d channel %d: bdlightcuts %.5f (se %.5f), path %.5f (se "
+                "%.5f): %+.2f%%\n",
+                k.scene, max_depth, c, b.mean, b.stderr_of_mean, p.mean, p.stderr_of_mean,
+                100 * (b.mean / p.mean - 1));
             EXPECT_NEAR(b.mean, p.mean, 4 * std::hypot(b.stderr_of_mean, p.stderr_of_mean))
-                << k.scene << " channel " << c;
+                << k.scene << " max depth " << max_depth << " channel " << c;
         }
     }
+}
+}  // namespace
+
+TEST(BdLightcuts, AgreesWithPathOnTheClassroomAndVeachAjar) {
+    ML_NEED_SHARED("scenes/classroom/scene-v4.pbrt");
+    ML_NEED_SHARED("scenes/veach-ajar/scene-v4.pbrt");
+    expect_bdlightcuts_agrees_with_path(0, 32, 12, 512);
+}
+
+// The same, one path class at a time: the image at max depth d holds the classes of depth up to
+// d (emission met, direct light, then one more bounce of VPL splits and remainder per depth), so
+// agreement at depths 1, 2 and 3 checks each of those classes against path's.
+TEST(BdLightcuts, AgreesWithPathDepthByDepthOnTheClassroomAndVeachAjar) {
+    ML_NEED_SHARED("scenes/classroom/scene-v4.pbrt");
+    ML_NEED_SHARED("scenes/veach-ajar/scene-v4.pbrt");
+    for (int depth : {1, 2, 3}) expect_bdlightcuts_agrees_with_path(depth, 24, 10, 256);
 }
