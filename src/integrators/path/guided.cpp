@@ -62,7 +62,7 @@ RenderResult PathIntegrator::render_guided(const RenderContext& ctx) {
     const int w = ctx.film.width(), h = ctx.film.height();
     const float clamp = ctx.film.splat_clamp();
     SDTree tree(ctx.scene.bounds());
-    ThreadLocal<ThreadState> states([&] { return ThreadState{ctx.sampler.clone(), {}}; });
+    ThreadLocal<ThreadState> states([&] { return ThreadState{ctx.sampler.clone(), ScratchBuffer()}; });
 
     std::vector<Pass> passes;
     double refine_seconds = 0;
@@ -80,7 +80,7 @@ RenderResult PathIntegrator::render_guided(const RenderContext& ctx) {
 
         // 2. Trace it, guided by what the passes before learned, training the next guide.
         PathTraceOptions options = m_options;
-        options.guide = k > 0 ? &tree : nullptr;
+        options.guide = &tree;  // (the first pass finds no distribution in it: plain paths)
         options.guide_record = !last;
         Pass pass;
         pass.first_sample = done;
