@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "bidir_test_helpers.h"
 #include "chi2.h"
 #include "core/rng.h"
 #include "materials/bxdfs.h"

@@ -62,7 +62,9 @@ RenderResult PathIntegrator::render_guided(const RenderContext& ctx) {
     const int w = ctx.film.width(), h = ctx.film.height();
     const float clamp = ctx.film.splat_clamp();
     SDTree tree(ctx.scene.bounds());
-    ThreadLocal<ThreadState> states([&] { return ThreadState{ctx.sampler.clone(), ScratchBuffer()}; });
+    ThreadLocal<ThreadState> states([&] {
+        return ThreadState{ctx.sampler.clone(), ScratchBuffer()};
+    });
 
     std::vector<Pass> passes;
     double refine_seconds = 0;
