@@ -172,7 +172,7 @@ Image render_path(const std::string& text, bool guided, uint64_t seed, int spp, 
     opt.seed = seed;
     opt.threads = threads;
     opt.set["path.guiding"] = guided ? "on" : "off";
-    if (!passes.empty()) opt.set["path.guiding.passes"] = passes;
+    if (!passes.empty()) opt.set["path.guidingpasses"] = passes;
     return test::render_text(text, opt).image;
 }
 
@@ -192,7 +192,7 @@ TEST(GuidedPath, AgreesWithPathOnTheCornellBox) {
     for (const char* passes : {"variance", "samples"}) {
         auto guided =
             test::render_twice(default_scene_text(), "path", 32, 5, 24,
-                               {{"path.guiding", "on"}, {"path.guiding.passes", passes}}, 3);
+                               {{"path.guiding", "on"}, {"path.guidingpasses", passes}}, 3);
         auto plain = test::render_twice(default_scene_text(), "path", 32, 5, 24, {}, 3);
         test::expect_agreement(guided, plain, 8, std::string("guided path (") + passes + ")");
     }

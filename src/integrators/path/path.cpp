@@ -29,7 +29,7 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
     if (guiding != "on" && guiding != "off") throw UsageError("path: guiding must be on or off");
     m_guiding = guiding == "on";
     const std::string weights = settings.get_string(
-        "guiding.passes", "variance",
+        "guidingpasses", "variance",
         {"variance, samples, last",
          "With guiding, how the passes make the image: weighted by the inverse of their "
          "variance, every sample alike, or the last pass alone."});
@@ -40,7 +40,7 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
     else if (weights == "last")
         m_pass_weights = PassWeights::Last;
     else
-        throw UsageError("path: guiding.passes must be variance, samples or last");
+        throw UsageError("path: guidingpasses must be variance, samples or last");
     if (m_max_depth < 0) throw UsageError("path: maxdepth must be >= 0");
     if (m_light_sampler_name != "tree" && m_light_sampler_name != "power" &&
         m_light_sampler_name != "uniform" && m_light_sampler_name != "all")
