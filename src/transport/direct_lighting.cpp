@@ -32,7 +32,8 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis, float light_pmf,
-                    const LightSampleWeight& weight, int bsdf_samples) {
+                    const LightSampleWeight& weight, int bsdf_samples,
+                    const DirectionPdf& direction_pdf) {
     LightSampleContext ctx = light_context(si);
     ctx.allow_incomplete_pdf = mis;
     auto ls = light.sample_li(ctx, u_light);
@@ -46,8 +47,9 @@ RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf
     if (!mis || is_delta_light(light.type())) {
         Ld = f * ls->L / ls->pdf_solid_angle;
     } else {
-        float w = power_heuristic(light_pmf * ls->pdf_solid_angle,
-                                  float(bsdf_samples) * bsdf.pdf_solid_angle(si.wo, ls->wi));
+        const float pdf_dir =
+            direction_pdf ? direction_pdf(ls->wi) : bsdf.pdf_solid_angle(si.wo, ls->wi);
+        float w = power_heuristic(light_pmf * ls->pdf_solid_angle, float(bsdf_samples) * pdf_dir);
         Ld = f * ls->L * (w / ls->pdf_solid_angle);
     }
     return weight ? Ld * sample_weight : Ld;

@@ -31,10 +31,14 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 // point on the light and its normal; f is bsdf.eval(si.wo, ls.wi), without the cosine), taken
 // before the shadow ray: where it is 0, no ray is traced (bdlightcuts' split weights, which are
 // 0 for most directions at some points). `bsdf_samples`: the BSDF samples the caller weighs
-// against this one light sample by MIS (the power heuristic with the counts).
+// against this one light sample by MIS (the power heuristic with the counts). `direction_pdf`, if
+// given, is the density of the caller's direction sampling in place of the BSDF's (a BSDF mixed
+// with a guide: path guiding).
 using LightSampleWeight = std::function<float(const LightLiSample& ls, const RGB& f)>;
+using DirectionPdf = std::function<float(const Vec3& wi)>;
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis = true, float light_pmf = 1.f,
-                    const LightSampleWeight& weight = {}, int bsdf_samples = 1);
+                    const LightSampleWeight& weight = {}, int bsdf_samples = 1,
+                    const DirectionPdf& direction_pdf = {});
 
 }  // namespace ml

@@ -2,8 +2,26 @@
 
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
+#include "transport/guided_bsdf.h"
+
+#include <array>
 
 namespace ml {
+
+namespace {
+
+// A vertex that records into the guide once its path has ended: the radiance that came back
+// along wi is the path's later contributions over the throughput up to the vertex.
+struct GuideVertex {
+    const SDTree::Region* region;
+    Vec3 wi;
+    RGB beta;  // throughput with the vertex's own scattering, before Russian roulette
+    float pdf;
+    RGB L;
+};
+constexpr int kMaxGuideVertices = 32;
+
+}  // namespace
 
 RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta, Sampler& sampler,
                   ScratchBuffer& scratch, const LightSampler& light_sampler,
@@ -15,13 +33,32 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
     // session 12).
     float path_weight = 1.f;
     float eta_scale = 1.f;  // radiance scaling by refraction, undone for Russian roulette
-    for (;; ++depth) {      // si: the vertex after `depth` scattering vertices
+    std::array<GuideVertex, kMaxGuideVertices> guide_vertices;
+    int n_guide_vertices = 0;
+    auto add = [&](const RGB& c) {
+        L += c;
+        for (int i = 0; i < n_guide_vertices; ++i)
+            guide_vertices[size_t(i)].L += c / guide_vertices[size_t(i)].beta;
+    };
+    for (;; ++depth) {  // si: the vertex after `depth` scattering vertices
         if (depth >= options.max_depth) break;
         Bsdf bsdf = hit_bsdf(si, scratch);
         if (!bsdf) break;
         const FirstBounceWeight* weight = first;
         first = nullptr;
         if (weight && weight->vanishes(bsdf, si.wo)) break;
+
+        // The guide's distribution here, where there is one to mix with the BSDF.
+        const SDTree::Region* region = nullptr;
+        const DirectionTree* guide = nullptr;
+        if (options.guide && bsdf.has_nonspecular() && !(bsdf.flags() & kBxdfSpecular)) {
+            region = options.guide->region(si.p);
+            guide = SDTree::distribution(region);
+        }
+        const GuidedBsdf guided(bsdf, guide, options.guide_bsdf_share);
+        DirectionPdf direction_pdf;
+        if (guide)
+            direction_pdf = [&](const Vec3& wi) { return guided.pdf_solid_angle(si.wo, wi); };
 
         // Next-event estimation: one light chosen for this point, one sample on it.
         float u_select = sampler.get_1d();
@@ -35,22 +72,26 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
             if (options.all_lights) {
                 const auto& lights = scene.lights();
                 for (size_t i = 0; i < lights.size(); ++i)
-                    L += path_weight * beta *
-                         estimate_direct(scene, si, bsdf, *lights[i],
-                                         i == 0 ? u_light : sampler.get_2d(), true, 1.f, ls_weight);
+                    add(path_weight * beta *
+                        estimate_direct(scene, si, bsdf, *lights[i],
+                                        i == 0 ? u_light : sampler.get_2d(), true, 1.f, ls_weight,
+                                        1, direction_pdf));
             } else if (auto sl = light_sampler.sample(light_context(si), u_select)) {
-                RGB Ld =
-                    estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, ls_weight);
-                L += path_weight * beta * Ld / sl->pmf;
+                RGB Ld = estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf,
+                                         ls_weight, 1, direction_pdf);
+                add(path_weight * beta * Ld / sl->pmf);
             }
         }
 
-        // Continue the path by sampling the BSDF.
+        // Continue the path by sampling the BSDF, or the guide where there is one (uc picks).
         float uc = sampler.get_1d();
         Vec2 u = sampler.get_2d();
-        auto bs = bsdf.sample(si.wo, uc, u);
+        auto bs = guided.sample(si.wo, uc, u);
         if (!bs) break;
         beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+        if (options.guide_record && region && n_guide_vertices < kMaxGuideVertices)
+            guide_vertices[size_t(n_guide_vertices++)] = {region, bs->wi, beta, bs->pdf_solid_angle,
+                                                          RGB()};
         if (weight) path_weight = weight->weight(bsdf, si.wo, bs->wi, bs->is_specular(), nullptr);
         if (path_weight == 0.f) break;
         const bool specular_bounce = bs->is_specular();
@@ -71,10 +112,15 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
 
         // The emission the BSDF sample finds, weighted against the light samples.
         bool hit = scene.intersect(ray, &si);
-        L += path_weight * beta *
-             emission_along(scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf, prev_ctx,
-                            options.all_lights ? nullptr : &light_sampler);
+        add(path_weight * beta *
+            emission_along(scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf, prev_ctx,
+                           options.all_lights ? nullptr : &light_sampler));
         if (!hit) break;
+    }
+    // Each vertex records its estimate of the light along wi over the density wi had.
+    for (int i = 0; i < n_guide_vertices; ++i) {
+        const GuideVertex& v = guide_vertices[size_t(i)];
+        SDTree::record(v.region, v.wi, (double(v.L.r) + v.L.g + v.L.b) / (3.0 * v.pdf));
     }
     return L;
 }

@@ -11,6 +11,7 @@
 #include "materials/bsdf.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
+#include "transport/sd_tree.h"
 
 namespace ml {
 
@@ -21,6 +22,14 @@ struct PathTraceOptions {
     // pbrt-v3's "all" strategy) instead of one light chosen by the LightSampler: no variance of
     // the light choice, at one shadow ray per light (`path.lightsampler=all`).
     bool all_lights = false;
+    // Path guiding: at a vertex without delta lobes whose region of `guide` has learned a
+    // distribution, the next direction comes from the BSDF with probability guide_bsdf_share,
+    // else from the guide (one-sample MIS: the mixture's density is the direction's pdf, for the
+    // throughput and for MIS with light samples). With guide_record, every vertex without delta
+    // lobes records the radiance its path brought back along its direction into the guide.
+    const SDTree* guide = nullptr;
+    bool guide_record = false;
+    float guide_bsdf_share = 0.5f;
 };
 
 // A weight of the continued paths that depends on the direction in which they leave their first

@@ -20,10 +20,36 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
     settings.get_bool(
         "regularize", false,
         {"", "Accepted for pbrt-v4 scenes; no effect."});  // accepted for pbrt-v4 scenes; no effect
+    const std::string guiding = settings.get_string(
+        "guiding", "off",
+        {"on, off",
+         "Path guiding: learn where light arrives from in passes of doubling samples "
+         "(a spatial tree of directional quadtrees, Müller et al. 2017) and draw half of the "
+         "directions at non-specular vertices from it."});
+    if (guiding != "on" && guiding != "off") throw UsageError("path: guiding must be on or off");
+    m_guiding = guiding == "on";
+    const std::string weights = settings.get_string(
+        "guidingpasses", "variance",
+        {"variance, samples, last",
+         "With guiding, how the passes make the image: weighted by the inverse of their "
+         "variance, every sample alike, or the last pass alone."});
+    if (weights == "variance")
+        m_pass_weights = PassWeights::Variance;
+    else if (weights == "samples")
+        m_pass_weights = PassWeights::Samples;
+    else if (weights == "last")
+        m_pass_weights = PassWeights::Last;
+    else
+        throw UsageError("path: guidingpasses must be variance, samples or last");
     if (m_max_depth < 0) throw UsageError("path: maxdepth must be >= 0");
     if (m_light_sampler_name != "tree" && m_light_sampler_name != "power" &&
         m_light_sampler_name != "uniform" && m_light_sampler_name != "all")
         throw UsageError("path: lightsampler must be tree, power, uniform or all");
+    m_options = PathTraceOptions{m_max_depth, m_rr_depth, m_light_sampler_name == "all"};
+}
+
+RenderResult PathIntegrator::render(const RenderContext& ctx) {
+    return m_guiding ? render_guided(ctx) : PixelIntegrator::render(ctx);
 }
 
 void PathIntegrator::prepare(const Scene& scene) {
@@ -34,12 +60,16 @@ void PathIntegrator::prepare(const Scene& scene) {
 
 RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
                        ScratchBuffer& scratch, Point2i pixel) const {
+    return trace(camera_ray, scene, sampler, scratch, m_options);
+}
+
+RGB PathIntegrator::trace(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
+                          ScratchBuffer& scratch, const PathTraceOptions& options) const {
     SurfaceInteraction si;
     bool hit = scene.intersect(camera_ray, &si);
     RGB L = emission_along(scene, camera_ray, hit ? &si : nullptr, true, 0.f, {},
                            m_light_sampler.get());
     if (!hit) return L;
-    PathTraceOptions options{m_max_depth, m_rr_depth, m_light_sampler_name == "all"};
     return L + continue_path(scene, si, 0, RGB(1.f), sampler, scratch, *m_light_sampler, options);
 }
 

@@ -1,0 +1,100 @@
+// Path guiding's spatio-directional tree (after Müller, Gross and Novák, "Practical Path
+// Guiding", 2017): a binary tree over the scene's bounds whose leaves (regions) each hold a
+// quadtree over the sphere of directions, in the cylindrical map (cos theta, phi) that keeps
+// areas. Each quadtree's leaves hold the energy (incident radiance over the density it was
+// sampled with) that paths recorded there, so that sampling a leaf by its energy share follows
+// the light arriving at the region.
+//
+// Training runs in passes. During a pass the regions' `distribution` (learned in the last pass)
+// guides while the paths record into `training`, a quadtree of its own shape; the records are
+// fixed-point integers added atomically, so the sums do not depend on the order in which
+// threads add them. After the pass, refine() makes the trained quadtrees the distributions,
+// splits regions that received many records, and shapes the new training quadtrees by the
+// energy they learned.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/math.h"
+
+namespace ml {
+
+// The cylindrical map between directions and the unit square: (cos theta + 1) / 2 and
+// phi / 2 pi, world-space z up. Its Jacobian is constant: a density p over the square is
+// p / (4 pi) over solid angle.
+Vec2 direction_to_square(const Vec3& w);
+Vec3 square_to_direction(const Vec2& u);
+
+// A quadtree over the unit square: each node splits its square into four quadrants
+// (index x + 2 y, x and y the halves), each either a leaf or a child node, with the energy
+// found in it.
+class DirectionTree {
+public:
+    DirectionTree();  // the root's four quadrants, leaves without energy
+    double total() const;
+    size_t nodes() const { return m_nodes.size(); }
+
+    // A direction with density pdf_solid_angle(); the tree must have energy.
+    Vec3 sample(const Vec2& u) const;
+    // The density over solid angle of sample(); 0 everywhere for a tree without energy.
+    float pdf_solid_angle(const Vec3& w) const;
+
+    // The quadtree for the next pass's training: a quadrant is split where it holds more than
+    // `share` of the total energy (a leaf's energy taken as spread evenly over it), up to
+    // `max_depth` levels; without energy, this tree's own shape. Energies are zero.
+    DirectionTree refined(double share, int max_depth) const;
+    // The index of the leaf slot (node * 4 + quadrant) holding direction w.
+    uint32_t leaf_slot(const Vec3& w) const;
+    // Sets the leaf slots' energies (one per slot, inner slots ignored) and sums them up into
+    // the inner slots.
+    void set_energies(const std::vector<double>& slots);
+
+private:
+    struct Node {
+        uint32_t child[4] = {0, 0, 0, 0};  // 0: the quadrant is a leaf (the root is never a child)
+        double energy[4] = {0, 0, 0, 0};
+    };
+    std::vector<Node> m_nodes;
+};
+
+class SDTree {
+public:
+    // Müller's constants: a region splits once it received more than
+    // kSpatialThreshold * sqrt(2^pass) records; a quadrant splits above kEnergyShare of the
+    // energy, up to kMaxQuadtreeDepth levels.
+    static constexpr double kSpatialThreshold = 12000;
+    static constexpr double kEnergyShare = 0.01;
+    static constexpr int kMaxQuadtreeDepth = 20;
+
+    explicit SDTree(const Bounds3& bounds);
+    ~SDTree();
+
+    struct Region;
+    // The region holding p (points outside the bounds: the nearest).
+    const Region* region(const Vec3& p) const;
+    // The region's learned distribution, or null where it has learned nothing.
+    static const DirectionTree* distribution(const Region* region);
+    // Adds a record: `energy` (incident radiance along w over the density w was sampled with)
+    // into the region's training quadtree. Thread-safe, and the sums are exact (fixed-point).
+    static void record(const Region* region, const Vec3& w, double energy);
+    // The end of pass `pass` (0, 1, ...): see the header comment.
+    void refine(int pass);
+    size_t regions() const { return m_regions.size(); }
+
+private:
+    struct Node {
+        int axis = -1;  // -1: a leaf, holding region `region`; else split at the middle
+        uint32_t child[2] = {0, 0};
+        uint32_t region = 0;
+    };
+    void split(uint32_t node, const Bounds3& bounds, int depth, double threshold);
+
+    Bounds3 m_bounds;
+    std::vector<Node> m_nodes;
+    std::vector<std::unique_ptr<Region>> m_regions;
+};
+
+}  // namespace ml
