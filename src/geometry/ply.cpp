@@ -99,7 +99,17 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
         if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "end_header") break;
         if (w[0] == "format") {
-            if (w.size() != 3) fail("malformed PLY header line {}", line_no);
+            // PLY has one version, 1.0; OpenMesh's reader loops forever on a version that is
+            // not a number.
+            double version = 0;
+            if (w.size() != 3 ||
+                std::from_chars(w[2].data(), w[2].data() + w[2].size(), version).ptr !=
+                    w[2].data() + w[2].size() ||
+                version != 1.0)
+                fail(
+                    "malformed PLY header line {}: the format must be ascii, "
+                    "binary_little_endian or binary_big_endian, version 1.0",
+                    line_no);
             if (w[1] == "ascii")
                 h.format = PlyFormat::Ascii;
             else if (w[1] == "binary_little_endian")
@@ -358,8 +368,13 @@ PlyCounts scan_ply(const std::string& path, const FileLoc& loc) {
 }
 
 std::unique_ptr<TriangleMesh> load_ply(const std::string& path, const FileLoc& loc) {
+    std::string data = read_file(path, Fail(path, loc));
+    return load_ply_data(std::move(data), path, loc);
+}
+
+std::unique_ptr<TriangleMesh> load_ply_data(std::string data, const std::string& path,
+                                            const FileLoc& loc) {
     Fail fail(path, loc);
-    std::string data = read_file(path, fail);
     PlyCounts counts = validate(data, fail);
 
     auto mesh = std::make_unique<TriangleMesh>();
