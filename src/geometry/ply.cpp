@@ -91,6 +91,15 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
         std::string_view line = data.substr(pos, eol - pos);
         pos = eol + 1;
         ++line_no;
+        // The header is ASCII text: OpenMesh's reader splits it on every space character
+        // (vertical tab and form feed too) and loops forever on what it cannot read, so a
+        // control character would make the two readers see different headers.
+        bool comment = line.substr(0, 8) == "comment " || line.substr(0, 9) == "obj_info ";
+        for (char ch : line) {
+            auto c = static_cast<unsigned char>(ch);
+            if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f || (c >= 0x80 && !comment))
+                fail("PLY header line {}: byte {} is not ASCII text", line_no, int(c));
+        }
         auto w = split_words(line);
         if (line_no == 1) {
             if (w.size() != 1 || w[0] != "ply") fail("not a PLY file (no \"ply\" magic)");
@@ -99,6 +108,7 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
         if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "end_header") break;
         if (w[0] == "format") {
+            if (have_format) fail("PLY header line {}: a second format line", line_no);
             // PLY has one version, 1.0; OpenMesh's reader loops forever on a version that is
             // not a number.
             double version = 0;
