@@ -91,6 +91,11 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
         std::string_view line = data.substr(pos, eol - pos);
         pos = eol + 1;
         ++line_no;
+        if (line_no == 1) {
+            if (split_words(line) != std::vector<std::string_view>{"ply"})
+                fail("not a PLY file (no \"ply\" magic)");
+            continue;
+        }
         // The header is ASCII text: OpenMesh's reader splits it on every space character
         // (vertical tab and form feed too) and loops forever on what it cannot read, so a
         // control character would make the two readers see different headers.
@@ -101,10 +106,6 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
                 fail("PLY header line {}: byte {} is not ASCII text", line_no, int(c));
         }
         auto w = split_words(line);
-        if (line_no == 1) {
-            if (w.size() != 1 || w[0] != "ply") fail("not a PLY file (no \"ply\" magic)");
-            continue;
-        }
         if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "end_header") break;
         if (w[0] == "format") {
