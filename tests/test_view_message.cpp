@@ -3,6 +3,7 @@
 // the message as the reason).
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "view_message.h"
 
 using namespace ml;
