@@ -93,7 +93,7 @@ void add_view_command(CLI::App& app, ViewArgs& a) {
         ->check(image_size());
     v->add_option("--integrator", a.integrator,
                   "the integrator the view refines with at rest: path, lightcuts or mdlightcuts")
-        ->check(one_of(ViewRenderer::refine_integrators(), "integrator"));
+        ->check(one_of(view_refine_integrators(), "integrator"));
     v->add_option("--spp", a.spp, "samples per pixel the refinement stops at (default 64)")
         ->check(positive_integer());
     v->add_option("--threads", a.threads, "threads (default: all cores)")

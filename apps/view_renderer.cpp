@@ -47,31 +47,7 @@ float srgb_encode(float v) {
     return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
 }
 
-std::map<std::string, std::string> parse_pairs(const std::string& text) {
-    std::map<std::string, std::string> out;
-    std::istringstream in(text);
-    std::string word;
-    while (in >> word) {
-        size_t eq = word.find('=');
-        if (eq == std::string::npos || eq == 0 || word.find('.') > eq)
-            throw UsageError("settings: expected NAME.KEY=VALUE, got \"" + word + "\"");
-        out[word.substr(0, eq)] = word.substr(eq + 1);
-    }
-    return out;
-}
-
 }  // namespace
-
-nlohmann::json ViewSettings::to_json() const {
-    return {{"vpls", vpls},       {"interleave", interleave}, {"filter", filter},
-            {"preview", preview}, {"exposure", exposure},     {"integrator", integrator},
-            {"spp", spp},         {"set", refine_set}};
-}
-
-const std::vector<std::string>& ViewRenderer::refine_integrators() {
-    static const std::vector<std::string> names = {"path", "lightcuts", "mdlightcuts"};
-    return names;
-}
 
 ViewRenderer::ViewRenderer(const Scene& scene, ViewConfig config)
     : m_scene(scene), m_config(std::move(config)), m_home(home_view(scene)), m_view(m_home) {
@@ -86,12 +62,7 @@ ViewSettings ViewRenderer::settings() const {
 }
 
 void ViewRenderer::set_view(const std::array<float, 9>& v) {
-    for (float x : v)
-        if (!std::isfinite(x) || std::abs(x) > 1e7f) throw UsageError("view: numbers out of range");
-    Vec3 eye(v[0], v[1], v[2]), target(v[3], v[4], v[5]), up(v[6], v[7], v[8]);
-    Vec3 dir = target - eye;
-    if (!(length(dir) > 0) || !(length(cross(normalize(dir), up)) > 1e-4f))
-        throw UsageError("view: the eye must differ from the target and up from the view");
+    check_view(v);
     std::lock_guard lock(m_mutex);
     m_view = v;
     ++m_version;
@@ -103,48 +74,7 @@ void ViewRenderer::reset_view() { set_view(m_home); }
 
 void ViewRenderer::set_settings(const nlohmann::json& j) {
     std::lock_guard lock(m_mutex);
-    ViewSettings s = m_settings;
-    auto number = [&](const char* key, double lo, double hi) {
-        const nlohmann::json& v = j.at(key);
-        if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
-            throw UsageError(
-                fmt::format("settings: {} must be a number from {} to {}", key, lo, hi));
-        return v.get<double>();
-    };
-    for (const auto& [key, value] : j.items()) {
-        if (key == "type") continue;
-        if (key == "vpls")
-            s.vpls = int(number("vpls", 0, 1 << 16));
-        else if (key == "filter")
-            s.filter = int(number("filter", 0, 8));
-        else if (key == "preview")
-            s.preview = int(number("preview", 1, 8));
-        else if (key == "exposure")
-            s.exposure = float(number("exposure", -20, 20));
-        else if (key == "spp")
-            s.spp = int(number("spp", 1, 1 << 16));
-        else if (key == "interleave") {
-            int n = 0, m = 0;
-            char extra = 0;
-            if (!value.is_string() ||
-                std::sscanf(value.get<std::string>().c_str(), "%dx%d%c", &n, &m, &extra) != 2 ||
-                n < 1 || m < 1 || n > 16 || m > 16)
-                throw UsageError("settings: interleave must be NxM, 1 to 16 each");
-            s.interleave = value.get<std::string>();
-        } else if (key == "integrator") {
-            const auto& names = refine_integrators();
-            if (!value.is_string() ||
-                std::find(names.begin(), names.end(), value.get<std::string>()) == names.end())
-                throw UsageError("settings: integrator must be path, lightcuts or mdlightcuts");
-            s.integrator = value.get<std::string>();
-        } else if (key == "set") {
-            if (!value.is_string() || value.get<std::string>().size() > 1000)
-                throw UsageError("settings: set must be a string of NAME.KEY=VALUE words");
-            parse_pairs(value.get<std::string>());
-            s.refine_set = value.get<std::string>();
-        } else
-            throw UsageError("settings: unknown setting \"" + key + "\"");
-    }
+    ViewSettings s = apply_view_settings(m_settings, j);
     bool only_exposure = s.vpls == m_settings.vpls && s.interleave == m_settings.interleave &&
                          s.filter == m_settings.filter && s.preview == m_settings.preview &&
                          s.integrator == m_settings.integrator && s.spp == m_settings.spp &&
@@ -182,7 +112,7 @@ std::shared_ptr<const ViewMessage> ViewRenderer::hello() const {
                                {"view", view_json(m_view)},
                                {"home", view_json(m_home)},
                                {"settings", m_settings.to_json()},
-                               {"integrators", refine_integrators()}}
+                               {"integrators", view_refine_integrators()}}
                     .dump();
     return msg;
 }
@@ -215,7 +145,7 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
     } else {
         o.integrator = s.integrator;
         o.set = m_config.set;
-        for (auto& [k, v] : parse_pairs(s.refine_set)) o.set[k] = v;
+        for (auto& [k, v] : parse_view_pairs(s.refine_set)) o.set[k] = v;
     }
     return o;
 }

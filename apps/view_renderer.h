@@ -23,6 +23,7 @@
 #include "film/image.h"
 #include "integrators/render_job.h"
 #include "scene/scene.h"
+#include "view_message.h"
 
 namespace ml {
 
@@ -35,21 +36,6 @@ struct ViewConfig {
     std::map<std::string, std::string> set;  // --set, passed to every render
     std::string save_dir = ".";
     int preview = 2;  // ViewSettings::preview at the start
-};
-
-// What the viewer can change (the `settings` message).
-struct ViewSettings {
-    int vpls = 256;
-    std::string interleave = "4x4";
-    int filter = 1;  // interleave patterns the blur spans
-    // Moving frames render at 1/preview of the width and height, each of their pixels shown
-    // as preview x preview; then one frame at full resolution once the view stops (1: always full).
-    int preview = 2;
-    float exposure = 0;  // stops
-    std::string integrator = "path";
-    int spp = 64;
-    std::string refine_set;  // "key=value key=value" for the refining integrator
-    nlohmann::json to_json() const;
 };
 
 // One message to the clients: a JSON text and, for frames, the RGBA8 pixels after it.
@@ -72,6 +58,7 @@ public:
     // The scene's viewpoint (eye, target, up) and the settings now.
     const std::array<float, 9>& home() const { return m_home; }
     ViewSettings settings() const;
+    // Applies a settings message (apply_view_settings).
     void set_settings(const nlohmann::json& j);
     void request_save();
     // The hello message a new client gets, and the last frame (null before the first).
@@ -91,9 +78,6 @@ public:
     // The frame message of an image: its status and the pixels in 8-bit sRGB after the exposure.
     std::shared_ptr<const ViewMessage> frame_message(const Image& image, nlohmann::json status,
                                                      float exposure) const;
-
-    // The integrators the viewer refines with.
-    static const std::vector<std::string>& refine_integrators();
 
 private:
     RenderOptions options_for(bool moving, const std::array<float, 9>& view, const ViewSettings& s,

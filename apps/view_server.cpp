@@ -101,35 +101,22 @@ private:
 
     // Acts on a page's message; returns what is wrong with it (empty: nothing).
     std::string handle(const std::string& text) {
-        nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-        if (j.is_discarded() || !j.is_object() || !j.contains("type") || !j["type"].is_string())
-            return "not a JSON object with a \"type\"";
-        const std::string type = j["type"];
         try {
-            if (type == "view") {
-                std::array<float, 9> v{};
-                int k = 0;
-                for (const char* key : {"eye", "target", "up"}) {
-                    const nlohmann::json& a = j.at(key);
-                    if (!a.is_array() || a.size() != 3) return "view: eye, target, up: 3 numbers";
-                    for (const nlohmann::json& x : a) {
-                        if (!x.is_number()) return "view: eye, target, up: 3 numbers";
-                        v[k++] = x.get<float>();
-                    }
-                }
-                if (j.size() != 4) return "view: unknown members";
-                m_hub.renderer.set_view(v);
-            } else if (type == "settings") {
-                m_hub.renderer.set_settings(j);
-            } else if (type == "reset" && j.size() == 1) {
-                m_hub.renderer.reset_view();
-            } else if (type == "save" && j.size() == 1) {
-                m_hub.renderer.request_save();
-            } else {
-                return "unknown message \"" + type + "\"";
+            ViewRequest r = decode_view_request(text);
+            switch (r.kind) {
+                case ViewRequest::Kind::View:
+                    m_hub.renderer.set_view(r.look_at);
+                    break;
+                case ViewRequest::Kind::Settings:
+                    m_hub.renderer.set_settings(r.settings);
+                    break;
+                case ViewRequest::Kind::Reset:
+                    m_hub.renderer.reset_view();
+                    break;
+                case ViewRequest::Kind::Save:
+                    m_hub.renderer.request_save();
+                    break;
             }
-        } catch (const nlohmann::json::exception&) {
-            return type + ": missing or malformed members";
         } catch (const Error& e) {
             return e.what();
         }

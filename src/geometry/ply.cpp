@@ -91,15 +91,36 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
         std::string_view line = data.substr(pos, eol - pos);
         pos = eol + 1;
         ++line_no;
-        auto w = split_words(line);
         if (line_no == 1) {
-            if (w.size() != 1 || w[0] != "ply") fail("not a PLY file (no \"ply\" magic)");
+            if (split_words(line) != std::vector<std::string_view>{"ply"})
+                fail("not a PLY file (no \"ply\" magic)");
             continue;
         }
+        // The header is ASCII text: OpenMesh's reader splits it on every space character
+        // (vertical tab and form feed too) and loops forever on what it cannot read, so a
+        // control character would make the two readers see different headers.
+        bool comment = line.substr(0, 8) == "comment " || line.substr(0, 9) == "obj_info ";
+        for (char ch : line) {
+            auto c = static_cast<unsigned char>(ch);
+            if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f || (c >= 0x80 && !comment))
+                fail("PLY header line {}: byte {} is not ASCII text", line_no, int(c));
+        }
+        auto w = split_words(line);
         if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
         if (w[0] == "end_header") break;
         if (w[0] == "format") {
-            if (w.size() != 3) fail("malformed PLY header line {}", line_no);
+            if (have_format) fail("PLY header line {}: a second format line", line_no);
+            // PLY has one version, 1.0; OpenMesh's reader loops forever on a version that is
+            // not a number.
+            double version = 0;
+            if (w.size() != 3 ||
+                std::from_chars(w[2].data(), w[2].data() + w[2].size(), version).ptr !=
+                    w[2].data() + w[2].size() ||
+                version != 1.0)
+                fail(
+                    "malformed PLY header line {}: the format must be ascii, "
+                    "binary_little_endian or binary_big_endian, version 1.0",
+                    line_no);
             if (w[1] == "ascii")
                 h.format = PlyFormat::Ascii;
             else if (w[1] == "binary_little_endian")
@@ -358,8 +379,13 @@ PlyCounts scan_ply(const std::string& path, const FileLoc& loc) {
 }
 
 std::unique_ptr<TriangleMesh> load_ply(const std::string& path, const FileLoc& loc) {
+    std::string data = read_file(path, Fail(path, loc));
+    return load_ply_data(std::move(data), path, loc);
+}
+
+std::unique_ptr<TriangleMesh> load_ply_data(std::string data, const std::string& path,
+                                            const FileLoc& loc) {
     Fail fail(path, loc);
-    std::string data = read_file(path, fail);
     PlyCounts counts = validate(data, fail);
 
     auto mesh = std::make_unique<TriangleMesh>();

@@ -26,5 +26,9 @@ PlyCounts scan_ply(const std::string& path, const FileLoc& loc);
 // Reads a PLY file into an object-space mesh (positions, and normals and uvs when the file has
 // them). Throws InputError at `loc` with the message "PATH: problem". Thread-safe.
 std::unique_ptr<TriangleMesh> load_ply(const std::string& path, const FileLoc& loc);
+// The same on a file's bytes already in memory (the fuzzer's entry point); `path` names them in
+// messages.
+std::unique_ptr<TriangleMesh> load_ply_data(std::string data, const std::string& path,
+                                            const FileLoc& loc);
 
 }  // namespace ml
