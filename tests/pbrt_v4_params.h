@@ -90,7 +90,10 @@ inline const PbrtParam kPbrtV4Params[] = {
     {"Shape", "plymesh", "texture displacement", "\"ftex\"", R},
     {"Shape", "plymesh", "float edgelength", "[ 1 ]", R},
     {"Shape", "plymesh", "float alpha", "[ 0.5 ]", A},
-    {"Shape", "cylinder", "", "", R},
+    {"Shape", "cylinder", "float radius", "[ 0.5 ]", A},
+    {"Shape", "cylinder", "float zmin", "[ -0.5 ]", A},
+    {"Shape", "cylinder", "float zmax", "[ 0.5 ]", A},
+    {"Shape", "cylinder", "float phimax", "[ 180 ]", A},
     {"Shape", "curve", "", "", R},
     {"Shape", "loopsubdiv", "", "", R},
     // ---- Material ----

@@ -61,3 +61,4 @@ TEST(PbrtReference, MixTexture) { expect_matches_pbrt("tex_mix"); }
 TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix"); }
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
+TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }

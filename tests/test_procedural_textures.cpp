@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <set>
+#include <tuple>
 
 #include "materials/noise.h"
 #include "materials/procedural_textures.h"

@@ -443,6 +443,8 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         src.mesh = make_sphere(params, loc);
     } else if (type == "disk") {
         src.mesh = make_disk(params, loc);
+    } else if (type == "cylinder") {
+        src.mesh = make_cylinder(params, loc);
     } else if (type == "plymesh") {
         for (const char* unsupported : {"displacement", "edgelength"})
             if (const Param* p = params.find(unsupported))
@@ -458,7 +460,7 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         std::error_code ec;
         if (!std::filesystem::exists(src.ply_path, ec))
             throw_input_error(f->loc, "{}: no such file", src.ply_path);
-    } else if (type == "cylinder" || type == "curve" || type == "loopsubdiv") {
+    } else if (type == "curve" || type == "loopsubdiv") {
         throw_input_error(loc, "the pbrt-v4 shape \"{}\" is not supported by manylight", type);
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);
