@@ -229,3 +229,31 @@ TEST(CameraImportance, RealisticCameraIsRefusedByName) {
     expect_render_error("Camera \"realistic\"\nWorldBegin\n", 1, 1,
                         "camera \"realistic\" (lens systems) is not supported");
 }
+
+TEST(CylinderShape, SideViewIsLitAsTheCosineAcrossIt) {
+    // An orthographic view across a cylinder of radius 0.8 (taller than the view), lit along
+    // the view by radiance pi, albedo 0.5: at x the radiance is 0.5 sqrt(1 - (x / 0.8)^2), so the
+    // image's mean over the window [-1, 1]^2 is 0.5 (0.8 pi / 2) / 2 and the columns beyond
+    // |x| = 0.8 are black.
+    const std::string scene = R"(
+LookAt 0 -5 0  0 0 0  0 0 1
+Camera "orthographic" "float screenwindow" [ -1 1 -1 1 ]
+Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ 32 ]
+Sampler "stratified" "integer xsamples" [ 4 ] "integer ysamples" [ 4 ]
+PixelFilter "box"
+Integrator "path" "integer maxdepth" [ 1 ]
+WorldBegin
+LightSource "distant" "point3 from" [ 0 -1 0 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3.14159265 3.14159265 3.14159265 ]
+Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+Shape "cylinder" "float radius" [ 0.8 ] "float zmin" [ -2 ] "float zmax" [ 2 ]
+)";
+    RenderOptions opt;
+    opt.threads = 1;
+    Image img = ml::test::render_text(scene, opt).image;
+    EXPECT_NEAR(ml::test::channel_stats(img, 1).mean, 0.5 * 0.8 * kPi / 4, 2e-3);
+    for (int y = 0; y < 32; ++y)
+        for (int x : {0, 1, 2, 29, 30, 31}) ASSERT_EQ(img.at(x, y).g, 0.f) << x << "," << y;
+    // Mirror-symmetric columns agree.
+    for (int x = 3; x < 16; ++x)
+        EXPECT_NEAR(img.at(x, 16).g, img.at(31 - x, 16).g, 0.02f) << x;
+}
