@@ -84,8 +84,8 @@ TEST(OrthographicCamera, DefaultWindowFollowsTheAspectRatio) {
 TEST(OrthographicCamera, ThinLensRaysMeetAtTheFocalPlaneAsInPbrtV4) {
     // pbrt-v4 starts lens rays at the lens point around the camera's axis (not around the film
     // point) and aims them at the film point's spot on the focal plane.
-    PerspectiveCamera cam(params({{"lensradius", {0.5}}, {"focaldistance", {4}}}), Transform(),
-                          32, 32, "orthographic");
+    PerspectiveCamera cam(params({{"lensradius", {0.5}}, {"focaldistance", {4}}}), Transform(), 32,
+                          32, "orthographic");
     for (Vec2 lens : {Vec2(0.1f, 0.2f), Vec2(0.9f, 0.4f), Vec2(0.5f, 0.99f)}) {
         Ray r = cam.generate_ray(film_at(8, 24, lens));
         EXPECT_NEAR(r.o.z, 0, 1e-6f);
@@ -165,7 +165,8 @@ TEST(OrthographicCamera, RendersALitQuadAtItsTrueSize) {
     // radiance 0.5 (albedo 0.5 under irradiance pi), whatever its distance.
     RenderOptions opt;
     opt.threads = 1;
-    Image img = ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), "orthographic"), opt).image;
+    Image img =
+        ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), "orthographic"), opt).image;
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
             bool inside = x >= 8 && x < 24 && y >= 8 && y < 24;
@@ -191,7 +192,8 @@ Shape "trianglemesh" "point3 P" [ -1e4 -1e4 0  1e4 -1e4 0  1e4 1e4 0  -1e4 1e4 0
 )";
     RenderOptions opt;
     opt.threads = 1;
-    Image eq = ml::test::render_text(fmt::format(fmt::runtime(scene), "equirectangular", 16), opt).image;
+    Image eq =
+        ml::test::render_text(fmt::format(fmt::runtime(scene), "equirectangular", 16), opt).image;
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 32; ++x)
             ASSERT_NEAR(eq.at(x, y).g, y < 8 ? 0.f : 0.5f, 1e-3f) << x << "," << y;
@@ -220,7 +222,8 @@ TEST(CameraImportance, LightPathIntegratorsRefuseCamerasWithoutIt) {
         RenderOptions opt;
         opt.integrator = integrator;
         opt.spp = 1;
-        EXPECT_NO_THROW(ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), "orthographic"), opt))
+        EXPECT_NO_THROW(
+            ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), "orthographic"), opt))
             << integrator;
     }
 }
@@ -254,6 +257,5 @@ Shape "cylinder" "float radius" [ 0.8 ] "float zmin" [ -2 ] "float zmax" [ 2 ]
     for (int y = 0; y < 32; ++y)
         for (int x : {0, 1, 2, 29, 30, 31}) ASSERT_EQ(img.at(x, y).g, 0.f) << x << "," << y;
     // Mirror-symmetric columns agree.
-    for (int x = 3; x < 16; ++x)
-        EXPECT_NEAR(img.at(x, 16).g, img.at(31 - x, 16).g, 0.02f) << x;
+    for (int x = 3; x < 16; ++x) EXPECT_NEAR(img.at(x, 16).g, img.at(31 - x, 16).g, 0.02f) << x;
 }

@@ -133,7 +133,8 @@ WorldBegin
 LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3.14159265 3.14159265 3.14159265 ]
 MakeNamedMaterial "light" "string type" "diffuse" "rgb reflectance" [ 0.8 0.8 0.8 ]
 MakeNamedMaterial "dark" "string type" "diffuse" "rgb reflectance" [ 0.2 0.2 0.2 ]
-)" + material + R"(
+)" + material +
+           R"(
 Shape "trianglemesh" "point3 P" [ -2 -2 0  2 -2 0  2 2 0  -2 2 0 ] "integer indices" [ 0 1 2  0 2 3 ]
 )";
 }
@@ -142,9 +143,9 @@ Shape "trianglemesh" "point3 P" [ -2 -2 0  2 -2 0  2 2 0  -2 2 0 ] "integer indi
 
 TEST(MixMaterial, RendersTheBlendOfItsMaterials) {
     // amount 0.25 of albedo 0.2 and 0.75 of 0.8: radiance 0.65 on average over each pixel.
-    const std::string scene =
-        lit_quad("Material \"mix\" \"string materials\" [ \"light\" \"dark\" ] "
-                 "\"float amount\" [ 0.25 ]");
+    const std::string scene = lit_quad(
+        "Material \"mix\" \"string materials\" [ \"light\" \"dark\" ] "
+        "\"float amount\" [ 0.25 ]");
     for (const char* integrator : {"path", "bdpt", "lightcuts", "vpl"}) {
         RenderOptions opt;
         opt.integrator = integrator;

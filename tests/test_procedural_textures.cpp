@@ -26,8 +26,8 @@ NamedTextures textures_of(const std::string& world) {
     return parse_scene_string("WorldBegin\n" + world, ".", "test.pbrt").textures;
 }
 
-const Vec3 kPoints[] = {{0.3f, 0.7f, 0.1f}, {-2.6f, 5.2f, 0.9f}, {13.1f, -7.45f, 3.3f},
-                        {100.5f, 0.25f, -40.8f}};
+const Vec3 kPoints[] = {
+    {0.3f, 0.7f, 0.1f}, {-2.6f, 5.2f, 0.9f}, {13.1f, -7.45f, 3.3f}, {100.5f, 0.25f, -40.8f}};
 
 }  // namespace
 
@@ -71,8 +71,8 @@ TEST(PerlinNoise, PeriodicContinuousAndBounded) {
         sum += v;
         sum2 += double(v) * v;
     }
-    EXPECT_NEAR(sum / n, 0, 0.02);       // symmetric gradients: mean zero
-    EXPECT_GT(sum2 / n, 0.01);           // and not flat
+    EXPECT_NEAR(sum / n, 0, 0.02);  // symmetric gradients: mean zero
+    EXPECT_GT(sum2 / n, 0.01);      // and not flat
     EXPECT_EQ(perlin_noise(Vec3(1e9f, 2e9f, -3e9f)), perlin_noise(Vec3(1e9f, 2e9f, -3e9f)));
 }
 
@@ -211,8 +211,9 @@ TEST(ProceduralTextures, WrongKindsAndBadValuesAreErrors) {
                        "\"fbm\" is a float texture in pbrt-v4");
     expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"marble\"\n", 2, 1,
                        "\"marble\" is a spectrum texture in pbrt-v4");
-    expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"wrinkled\" \"integer octaves\" [ 0 ]\n",
-                       2, 36, "\"octaves\" must lie in [1, 32]");
+    expect_scene_error(
+        "WorldBegin\nTexture \"n\" \"float\" \"wrinkled\" \"integer octaves\" [ 0 ]\n", 2, 36,
+        "\"octaves\" must lie in [1, 32]");
     expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"ptex\"\n", 2, 1, "not supported");
     expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"windy\" \"float roughness\" [ 1 ]\n",
                        2, 34, "\"float roughness\" is unknown or unused");

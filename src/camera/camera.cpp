@@ -44,8 +44,8 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
     m_tan_half_fov = std::tan(radians(fov) * 0.5f);
     m_lens_radius = params.get_float("lensradius", 0.f);
     // pbrt-v4's spherical camera reads and ignores its lens (default focal distance 1e30).
-    m_focal_distance = params.get_float(
-        "focaldistance", m_projection == Projection::Spherical ? 1e30f : 1e6f);
+    m_focal_distance =
+        params.get_float("focaldistance", m_projection == Projection::Spherical ? 1e30f : 1e6f);
     if (m_projection == Projection::Spherical) m_lens_radius = 0;
     if (m_lens_radius < 0.f || m_focal_distance <= 0.f)
         throw_input_error(params.loc(), "\"lensradius\" must be >= 0 and \"focaldistance\" > 0");
@@ -193,8 +193,8 @@ Ray PerspectiveCamera::spherical_ray(const CameraSample& s) const {
     Vec3 dir;
     if (m_mapping == SphericalMapping::EquiRectangular) {
         float theta = kPi * uv.y, phi = 2 * kPi * uv.x;
-        dir = Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                   std::cos(theta));
+        dir =
+            Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
     } else {
         dir = equal_area_square_to_sphere(
             Vec2(std::clamp(uv.x, 0.f, 1.f), std::clamp(uv.y, 0.f, 1.f)));

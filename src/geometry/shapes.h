@@ -1,6 +1,6 @@
 // pbrt-v4 shapes as object-space triangle meshes: "trianglemesh" as given (validated), "sphere",
-// "disk" and "cylinder" tessellated finely enough that the facets do not show, with analytic per-vertex
-// normals and pbrt's (u, v) parameterisation. Then the move to world space.
+// "disk" and "cylinder" tessellated finely enough that the facets do not show, with analytic
+// per-vertex normals and pbrt's (u, v) parameterisation. Then the move to world space.
 #pragma once
 
 #include <memory>

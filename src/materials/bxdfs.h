@@ -94,9 +94,7 @@ private:
 class ThinDielectricBxdf final : public Bxdf {
 public:
     explicit ThinDielectricBxdf(float eta) : m_eta(eta) {}
-    uint8_t flags() const override {
-        return kBxdfReflection | kBxdfTransmission | kBxdfSpecular;
-    }
+    uint8_t flags() const override { return kBxdfReflection | kBxdfTransmission | kBxdfSpecular; }
     RGB eval(const Vec3&, const Vec3&, TransportMode) const override { return RGB(); }
     std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
                                      TransportMode mode) const override;

@@ -185,8 +185,7 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         }
         return std::make_unique<MixMaterial>(m[0], m[1], mp.get_float("amount", 0.5f));
     }
-    for (const char* pbrt : {"coatedconductor", "hair", "measured",
-                             "subsurface", "interface"})
+    for (const char* pbrt : {"coatedconductor", "hair", "measured", "subsurface", "interface"})
         if (type == pbrt)
             throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
                               type);

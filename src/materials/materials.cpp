@@ -73,8 +73,7 @@ Bsdf DielectricMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& s
                 scratch_new<DielectricBxdf>(scratch, m_roughness.distribution(ctx), eta));
 }
 
-Bsdf ThinDielectricMaterial::get_bsdf(const SurfaceInteraction& si,
-                                      ScratchBuffer& scratch) const {
+Bsdf ThinDielectricMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
     float eta = m_eta.eval(context(si));
     if (eta == 0) eta = 1;
     return Bsdf(frame(si), si.ng, scratch_new<ThinDielectricBxdf>(scratch, eta));

@@ -48,9 +48,7 @@ protected:
     Frame frame(const SurfaceInteraction& si) const {
         return shading_frame(si, m_displacement.get());
     }
-    static TextureEvalContext context(const SurfaceInteraction& si) {
-        return {si.p, si.uv, si.ng};
-    }
+    static TextureEvalContext context(const SurfaceInteraction& si) { return {si.p, si.uv, si.ng}; }
 
 private:
     std::shared_ptr<FloatTexture> m_displacement;

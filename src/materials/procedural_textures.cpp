@@ -36,17 +36,17 @@ RGB MarbleTexture::eval(const TextureEvalContext& ctx) const {
     float t = .5f + .5f * std::sin(marble);
     // pbrt-v4's colours, as control points of consecutive cubic Bezier segments.
     static const RGB kColors[] = {
-        {.58f, .58f, .6f}, {.58f, .58f, .6f}, {.58f, .58f, .6f}, {.5f, .5f, .5f},
-        {.6f, .59f, .58f}, {.58f, .58f, .6f}, {.58f, .58f, .6f}, {.2f, .2f, .33f},
-        {.58f, .58f, .6f},
+        {.58f, .58f, .6f}, {.58f, .58f, .6f}, {.58f, .58f, .6f},
+        {.5f, .5f, .5f},   {.6f, .59f, .58f}, {.58f, .58f, .6f},
+        {.58f, .58f, .6f}, {.2f, .2f, .33f},  {.58f, .58f, .6f},
     };
     constexpr int kSegments = int(std::size(kColors)) - 3;
     const int first = std::min(int(std::floor(t * kSegments)), kSegments - 1);
     t = t * kSegments - float(first);
     const RGB* c = kColors + first;
     const float s = 1 - t;
-    RGB bezier = c[0] * (s * s * s) + c[1] * (3 * s * s * t) + c[2] * (3 * s * t * t) +
-                 c[3] * (t * t * t);
+    RGB bezier =
+        c[0] * (s * s * s) + c[1] * (3 * s * s * t) + c[2] * (3 * s * t * t) + c[3] * (t * t * t);
     return bezier * 1.5f;
 }
 

@@ -353,8 +353,7 @@ void create_texture(const std::string& name, const std::string& kind, const std:
                 mapping, rgb_arg("outside", RGB(0)), rgb_arg("inside", RGB(1)));
     } else if (cls == "fbm" || cls == "wrinkled" || cls == "windy") {
         if (!is_float)
-            throw_input_error(loc, "\"{}\" is a float texture in pbrt-v4, not a spectrum one",
-                              cls);
+            throw_input_error(loc, "\"{}\" is a float texture in pbrt-v4, not a spectrum one", cls);
         using Kind = NoiseTexture::Kind;
         Kind k = cls == "fbm" ? Kind::Fbm : cls == "wrinkled" ? Kind::Wrinkled : Kind::Windy;
         int octaves = k == Kind::Windy ? 0 : noise_octaves_param(params, loc);
@@ -366,10 +365,9 @@ void create_texture(const std::string& name, const std::string& kind, const std:
             throw_input_error(loc, "\"marble\" is a spectrum texture in pbrt-v4, not a float one");
         int octaves = noise_octaves_param(params, loc);
         float omega = params.get_float("roughness", .5f);
-        textures.rgbs[name] =
-            std::make_shared<MarbleTexture>(to_world.inverse(), octaves, omega,
-                                            params.get_float("scale", 1),
-                                            params.get_float("variation", .2f));
+        textures.rgbs[name] = std::make_shared<MarbleTexture>(to_world.inverse(), octaves, omega,
+                                                              params.get_float("scale", 1),
+                                                              params.get_float("variation", .2f));
     } else if (cls == "mix" || cls == "directionmix") {
         auto make = [&](auto tex1, auto tex2, auto base) {
             using Mix = MixTexture<typename decltype(base)::element_type,
@@ -382,8 +380,8 @@ void create_texture(const std::string& name, const std::string& kind, const std:
             return std::make_shared<Mix>(tex1, tex2, normalize(dir));
         };
         if (is_float)
-            textures.floats[name] = make(float_arg("tex1", 0), float_arg("tex2", 1),
-                                         std::shared_ptr<FloatTexture>());
+            textures.floats[name] =
+                make(float_arg("tex1", 0), float_arg("tex2", 1), std::shared_ptr<FloatTexture>());
         else
             textures.rgbs[name] = make(rgb_arg("tex1", RGB(0)), rgb_arg("tex2", RGB(1)),
                                        std::shared_ptr<RGBTexture>());
