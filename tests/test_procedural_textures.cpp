@@ -212,9 +212,9 @@ TEST(ProceduralTextures, WrongKindsAndBadValuesAreErrors) {
     expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"marble\"\n", 2, 1,
                        "\"marble\" is a spectrum texture in pbrt-v4");
     expect_scene_error(
-        "WorldBegin\nTexture \"n\" \"float\" \"wrinkled\" \"integer octaves\" [ 0 ]\n", 2, 36,
+        "WorldBegin\nTexture \"n\" \"float\" \"wrinkled\" \"integer octaves\" [ 0 ]\n", 2, 32,
         "\"octaves\" must lie in [1, 32]");
     expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"ptex\"\n", 2, 1, "not supported");
     expect_scene_error("WorldBegin\nTexture \"n\" \"float\" \"windy\" \"float roughness\" [ 1 ]\n",
-                       2, 34, "\"float roughness\" is unknown or unused");
+                       2, 29, "\"float roughness\" is unknown or unused");
 }
