@@ -145,18 +145,17 @@ TEST(SphericalCamera, UnknownMappingIsAnErrorAtItsPlace) {
 
 namespace {
 
-const char* kLitQuad = R"(
-LookAt 0 0 5  0 0 0  0 1 0
-Camera "{}" "float screenwindow" [ -2 2 -2 2 ]
-Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ 32 ]
-Sampler "independent" "integer pixelsamples" [ 4 ]
-PixelFilter "box"
-Integrator "path" "integer maxdepth" [ 1 ]
-WorldBegin
-LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3.14159265 3.14159265 3.14159265 ]
-Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
-Shape "trianglemesh" "point3 P" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] "integer indices" [ 0 1 2  0 2 3 ]
-)";
+// The quad [-1, 1]^2 of albedo 0.5 lit from above, seen from above by `camera` with the screen
+// window [-2, 2]^2 (its Camera line is line 3).
+std::string lit_quad(const std::string& camera) {
+    return ml::test::lit_from_above(
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"" + camera +
+            "\" \"float screenwindow\" [ -2 2 -2 2 ]",
+        32, 32, 4,
+        "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+        "  \"integer indices\" [ 0 1 2  0 2 3 ]");
+}
 
 }  // namespace
 
@@ -165,8 +164,7 @@ TEST(OrthographicCamera, RendersALitQuadAtItsTrueSize) {
     // radiance 0.5 (albedo 0.5 under irradiance pi), whatever its distance.
     RenderOptions opt;
     opt.threads = 1;
-    Image img =
-        ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), "orthographic"), opt).image;
+    Image img = ml::test::render_text(lit_quad("orthographic"), opt).image;
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
             bool inside = x >= 8 && x < 24 && y >= 8 && y < 24;
@@ -178,26 +176,24 @@ TEST(SphericalCamera, SeesTheFloorBelowTheHorizon) {
     // From above a wide lit floor (albedo 0.5, radiance 0.5), with +z up: the rows below the
     // middle of an equirectangular image see the floor, those above see nothing; an equal-area
     // image sees it on half its area (its mean is 0.25 up to the far floor's edge).
-    const std::string scene = R"(
-LookAt 0 0 1  1 0 1  0 0 1
-Camera "spherical" "string mapping" "{}"
-Film "rgb" "integer xresolution" [ 32 ] "integer yresolution" [ {} ]
-Sampler "independent" "integer pixelsamples" [ 4 ]
-PixelFilter "box"
-Integrator "path" "integer maxdepth" [ 1 ]
-WorldBegin
-LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3.14159265 3.14159265 3.14159265 ]
-Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
-Shape "trianglemesh" "point3 P" [ -1e4 -1e4 0  1e4 -1e4 0  1e4 1e4 0  -1e4 1e4 0 ] "integer indices" [ 0 1 2  0 2 3 ]
-)";
+    auto scene = [](const char* mapping, int height) {
+        return ml::test::lit_from_above(
+            fmt::format(
+                "LookAt 0 0 1  1 0 1  0 0 1\nCamera \"spherical\" \"string mapping\" \"{}\"",
+                mapping),
+            32, height, 4,
+            "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+            "Shape \"trianglemesh\" \"point3 P\" [ -1e4 -1e4 0  1e4 -1e4 0  1e4 1e4 0  -1e4 1e4 0 "
+            "]\n"
+            "  \"integer indices\" [ 0 1 2  0 2 3 ]");
+    };
     RenderOptions opt;
     opt.threads = 1;
-    Image eq =
-        ml::test::render_text(fmt::format(fmt::runtime(scene), "equirectangular", 16), opt).image;
+    Image eq = ml::test::render_text(scene("equirectangular", 16), opt).image;
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 32; ++x)
             ASSERT_NEAR(eq.at(x, y).g, y < 8 ? 0.f : 0.5f, 1e-3f) << x << "," << y;
-    Image ea = ml::test::render_text(fmt::format(fmt::runtime(scene), "equalarea", 32), opt).image;
+    Image ea = ml::test::render_text(scene("equalarea", 32), opt).image;
     EXPECT_NEAR(ml::test::channel_stats(ea, 1).mean, 0.25, 2e-3);
 }
 
@@ -209,7 +205,7 @@ TEST(CameraImportance, LightPathIntegratorsRefuseCamerasWithoutIt) {
             opt.integrator = integrator;
             opt.spp = 1;
             try {
-                ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), camera), opt);
+                ml::test::render_text(lit_quad(camera), opt);
                 ADD_FAILURE() << "rendered";
             } catch (const InputError& e) {
                 EXPECT_EQ(e.loc().line, 3);
@@ -222,9 +218,7 @@ TEST(CameraImportance, LightPathIntegratorsRefuseCamerasWithoutIt) {
         RenderOptions opt;
         opt.integrator = integrator;
         opt.spp = 1;
-        EXPECT_NO_THROW(
-            ml::test::render_text(fmt::format(fmt::runtime(kLitQuad), "orthographic"), opt))
-            << integrator;
+        EXPECT_NO_THROW(ml::test::render_text(lit_quad("orthographic"), opt)) << integrator;
     }
 }
 

@@ -122,21 +122,15 @@ namespace {
 // A quad under a distant light of radiance pi from straight above, seen from above: at max
 // depth 1 a diffuse point's radiance is its albedo.
 std::string lit_quad(const std::string& material) {
-    return R"(
-LookAt 0 0 3  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 30 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
-Sampler "independent" "integer pixelsamples" [ 16 ]
-PixelFilter "box"
-Integrator "path" "integer maxdepth" [ 1 ]
-WorldBegin
-LightSource "distant" "point3 from" [ 0 0 1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3.14159265 3.14159265 3.14159265 ]
-MakeNamedMaterial "light" "string type" "diffuse" "rgb reflectance" [ 0.8 0.8 0.8 ]
-MakeNamedMaterial "dark" "string type" "diffuse" "rgb reflectance" [ 0.2 0.2 0.2 ]
-)" + material +
-           R"(
-Shape "trianglemesh" "point3 P" [ -2 -2 0  2 -2 0  2 2 0  -2 2 0 ] "integer indices" [ 0 1 2  0 2 3 ]
-)";
+    return ml::test::lit_from_above(
+        "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 30 ]", 16, 16, 16,
+        "MakeNamedMaterial \"light\" \"string type\" \"diffuse\"\n"
+        "  \"rgb reflectance\" [ 0.8 0.8 0.8 ]\n"
+        "MakeNamedMaterial \"dark\" \"string type\" \"diffuse\"\n"
+        "  \"rgb reflectance\" [ 0.2 0.2 0.2 ]\n" +
+            material +
+            "\nShape \"trianglemesh\" \"point3 P\" [ -2 -2 0  2 -2 0  2 2 0  -2 2 0 ]\n"
+            "  \"integer indices\" [ 0 1 2  0 2 3 ]");
 }
 
 }  // namespace
