@@ -1,9 +1,9 @@
 // The pbrt-v4 features of tests/scenes/, each rendered by manylight at the scene's own samples
 // per pixel and compared with pbrt-v4's render of the same file at 1024 spp, committed beside it
 // (tests/scenes/NAME.exr, made by tests/scenes/pbrt-v4-references.sh; a scene without one is
-// skipped and says so): every channel's mean
-// within 2% and every 16x16 block's within 10%. The scenes keep spectral rendering from hiding a
-// difference: max depth 1 or 2, neutral colours where light bounces.
+// skipped and says so): every channel's mean within 2% and every 16x16 block's within 10%. The
+// scenes keep spectral rendering from hiding a difference: max depth 1 or 2, neutral colours
+// where light bounces.
 #include <gtest/gtest.h>
 
 #include <filesystem>
