@@ -191,9 +191,10 @@ TEST(SphericalCamera, SeesTheFloorBelowTheHorizon) {
     opt.threads = 1;
     Image eq = ml::test::render_text(scene("equirectangular", 16), opt).image;
     for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 32; ++x)
-            if (y != 8)  // the row below the horizon may miss the floor's far edge at a sample
-                ASSERT_NEAR(eq.at(x, y).g, y < 8 ? 0.f : 0.5f, 1e-3f) << x << "," << y;
+        for (int x = 0; x < 32; ++x) {
+            if (y == 8) continue;  // the row below the horizon may miss the floor's far edge
+            ASSERT_NEAR(eq.at(x, y).g, y < 8 ? 0.f : 0.5f, 1e-3f) << x << "," << y;
+        }
     Image ea = ml::test::render_text(scene("equalarea", 32), opt).image;
     // The pixels across the horizon (a diamond in this mapping) are sampled: 3 standard errors.
     EXPECT_NEAR(ml::test::channel_stats(ea, 1).mean, 0.25, 2e-3);
