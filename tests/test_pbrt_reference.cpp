@@ -6,6 +6,7 @@
 // where light bounces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "film/image.h"
@@ -41,10 +42,11 @@ void expect_matches_pbrt(const std::string& name) {
     // Blocks whose pbrt-v4 mean is below 2% of the image's are left out: there 10% is noise.
     float floor = 0.02f * std::max({d.mean_b.r, d.mean_b.g, d.mean_b.b});
     std::vector<BlockDiff> worst = worst_blocks(img, ref, 16, 1, floor);
-    if (!worst.empty())
+    if (!worst.empty()) {
         EXPECT_LT(worst[0].rel(), 0.10)
             << "block " << worst[0].x << "," << worst[0].y << " channel " << worst[0].channel
             << ": manylight " << worst[0].a << ", pbrt-v4 " << worst[0].ref;
+    }
     std::printf("%s: mean rel diff %+.4f %+.4f %+.4f, worst block %.4f\n", name.c_str(),
                 d.mean_rel_diff.r, d.mean_rel_diff.g, d.mean_rel_diff.b,
                 worst.empty() ? 0.0 : worst[0].rel());
