@@ -39,6 +39,20 @@ inline ChannelStats channel_stats(const Image& img, int c) {
     return st;
 }
 
+// A scene lit from straight above by a distant light of radiance pi (an upward-facing diffuse
+// surface shows its albedo), max depth 1, box filter: `view` holds its LookAt and Camera lines
+// (the scene's lines 2 and 3), `world` what follows the light.
+inline std::string lit_from_above(const std::string& view, int width, int height, int spp,
+                                  const std::string& world) {
+    return fmt::format(
+        "\n{}\nFilm \"rgb\" \"integer xresolution\" [ {} ] \"integer yresolution\" [ {} ]\n"
+        "Sampler \"independent\" \"integer pixelsamples\" [ {} ]\nPixelFilter \"box\"\n"
+        "Integrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
+        "LightSource \"distant\" \"point3 from\" [ 0 0 1 ] \"point3 to\" [ 0 0 0 ]\n"
+        "  \"rgb L\" [ 3.14159265 3.14159265 3.14159265 ]\n{}\n",
+        view, width, height, spp, world);
+}
+
 // A camera inside a closed sphere of albedo `albedo` that emits Le from every point (two-sided):
 // the radiance along every ray is Le (1 + albedo + albedo^2 + ...), cut at the path depth.
 inline std::string furnace_scene(float albedo, float Le, int res = 24) {

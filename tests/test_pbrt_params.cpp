@@ -46,6 +46,8 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
         add("filename", "\"string filename\" \"" + dir + "/tri.ply\"");
     } else if (d.rfind("Texture", 0) == 0 && t == "imagemap") {
         add("filename", "\"string filename\" \"" + dir + "/tex.exr\"");
+    } else if (d == "Material" && t == "mix") {
+        add("materials", "\"string materials\" [ \"ma\" \"mb\" ]");
     } else if (d == "Film") {
         add("xresolution", "\"integer xresolution\" [ 2 ]");
         add("yresolution", "\"integer yresolution\" [ 2 ]");
@@ -81,6 +83,8 @@ std::string scene_for(const PbrtParam& row, const std::string& dir, const std::s
     text += "WorldBegin\n";
     text += "Texture \"ftex\" \"float\" \"constant\" \"float value\" [ 0.5 ]\n";
     text += "Texture \"stex\" \"spectrum\" \"constant\" \"rgb value\" [ 0.5 0.5 0.5 ]\n";
+    text += "MakeNamedMaterial \"ma\" \"string type\" \"diffuse\"\n";
+    text += "MakeNamedMaterial \"mb\" \"string type\" \"conductor\"\n";
     text += "LightSource \"point\" \"point3 from\" [ 0 0 3 ]\n";
     if (!is_header(d)) text += line + "\n";
     text += "Shape \"sphere\" \"float radius\" [ 0.5 ]\n";

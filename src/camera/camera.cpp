@@ -1,23 +1,52 @@
 #include "camera/camera.h"
 
+#include <algorithm>
+#include <utility>
+
 #include "sampling/warps.h"
 
 namespace ml {
 
 PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
                                      const AnimatedTransform& camera_to_world, int width,
-                                     int height)
+                                     int height, const std::string& type)
     : m_motion(camera_to_world),
       m_moves(camera_to_world.is_animated()),
       m_camera_to_world(camera_to_world.start()),
       m_width(width),
-      m_height(height) {
-    float fov = params.get_float("fov", 90.f);
+      m_height(height),
+      m_loc(params.loc()) {
+    if (type == "perspective") {
+        m_projection = Projection::Perspective;
+    } else if (type == "orthographic") {
+        m_projection = Projection::Orthographic;
+    } else if (type == "spherical") {
+        m_projection = Projection::Spherical;
+        std::string mapping = params.get_string("mapping", "equalarea");
+        if (mapping == "equirectangular")
+            m_mapping = SphericalMapping::EquiRectangular;
+        else if (mapping != "equalarea")
+            throw_input_error(params.find("mapping")->loc,
+                              "unknown spherical camera mapping \"{}\" (\"equalarea\" or "
+                              "\"equirectangular\")",
+                              mapping);
+    } else {
+        throw_input_error(params.loc(),
+                          "unsupported camera \"{}\" (perspective, orthographic and spherical are)",
+                          type);
+    }
+    // The orthographic camera's screen window is in camera-space units at z = 0 (pbrt-v4's
+    // Orthographic(0, 1) is the identity on x and y): as a tangent of one, the perspective code
+    // below serves both.
+    float fov = m_projection == Projection::Perspective ? params.get_float("fov", 90.f) : 90.f;
     if (!(fov > 0.f && fov < 180.f))
         throw_input_error(params.find("fov")->loc, "\"fov\" must lie in (0, 180) degrees");
     m_tan_half_fov = std::tan(radians(fov) * 0.5f);
     m_lens_radius = params.get_float("lensradius", 0.f);
-    m_focal_distance = params.get_float("focaldistance", 1e6f);
+    // pbrt-v4's spherical camera reads and ignores its lens (default focal distance 1e30).
+    m_focal_distance =
+        params.get_float("focaldistance", m_projection == Projection::Spherical ? 1e30f : 1e6f);
+    if (m_projection == Projection::Spherical) m_lens_radius = 0;
     if (m_lens_radius < 0.f || m_focal_distance <= 0.f)
         throw_input_error(params.loc(), "\"lensradius\" must be >= 0 and \"focaldistance\" > 0");
     float frame = params.get_float("frameaspectratio", float(width) / float(height));
@@ -51,7 +80,17 @@ Vec2 PerspectiveCamera::raster_of(const Vec3& p) const {
                 (m_screen[3] - sy) / (m_screen[3] - m_screen[2]) * m_height);
 }
 
+void PerspectiveCamera::require_importance() const {
+    if (!has_importance())
+        throw InputError(
+            m_loc,
+            "the orthographic and spherical cameras have no importance function: light paths "
+            "cannot reach them, so light tracing, BDPT and Metropolis need the perspective "
+            "camera");
+}
+
 float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
+    require_importance();
     // In camera space: the ray must leave the lens forwards.
     const Transform w2c = world_to_camera(ray.time);
     Vec3 d = normalize(w2c.vector(ray.d));
@@ -73,6 +112,7 @@ float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
 }
 
 void PerspectiveCamera::pdf_we(const Ray& ray, float* pdf_area, float* pdf_solid_angle) const {
+    require_importance();
     *pdf_area = *pdf_solid_angle = 0;
     if (importance(ray) == 0) return;
     float cos_theta = normalize(world_to_camera(ray.time).vector(ray.d)).z;
@@ -82,6 +122,7 @@ void PerspectiveCamera::pdf_we(const Ray& ray, float* pdf_area, float* pdf_solid
 
 std::optional<CameraWiSample> PerspectiveCamera::sample_wi(const Vec3& p_ref, const Vec2& u,
                                                            float time) const {
+    require_importance();
     // A uniform point on the lens (the pinhole itself when there is no lens).
     Vec2 lens = sample_uniform_disk_concentric(u) * m_lens_radius;
     CameraWiSample s;
@@ -101,6 +142,17 @@ std::optional<CameraWiSample> PerspectiveCamera::sample_wi(const Vec3& p_ref, co
 }
 
 Ray PerspectiveCamera::generate_ray(const CameraSample& s) const {
+    Ray ray = m_projection == Projection::Perspective    ? perspective_ray(s)
+              : m_projection == Projection::Orthographic ? orthographic_ray(s)
+                                                         : spherical_ray(s);
+    ray.time = sample_time(s.time);
+    const Transform c2w = camera_to_world(ray.time);
+    ray.o = c2w.point(ray.o);
+    ray.d = normalize(c2w.vector(ray.d));
+    return ray;
+}
+
+Ray PerspectiveCamera::perspective_ray(const CameraSample& s) const {
     // Raster to screen window to the z = 1 plane of camera space.
     float sx = m_screen[0] + (s.p_film.x / m_width) * (m_screen[1] - m_screen[0]);
     float sy = m_screen[3] - (s.p_film.y / m_height) * (m_screen[3] - m_screen[2]);
@@ -114,11 +166,41 @@ Ray PerspectiveCamera::generate_ray(const CameraSample& s) const {
         ray.o = Vec3(lens.x, lens.y, 0);
         ray.d = normalize(focus - ray.o);
     }
-    ray.time = sample_time(s.time);
-    const Transform c2w = camera_to_world(ray.time);
-    ray.o = c2w.point(ray.o);
-    ray.d = normalize(c2w.vector(ray.d));
     return ray;
+}
+
+Ray PerspectiveCamera::orthographic_ray(const CameraSample& s) const {
+    // Raster to the screen window, which is the plane z = 0 of camera space; rays along +z.
+    float sx = m_screen[0] + (s.p_film.x / m_width) * (m_screen[1] - m_screen[0]);
+    float sy = m_screen[3] - (s.p_film.y / m_height) * (m_screen[3] - m_screen[2]);
+    Ray ray{Vec3(sx, sy, 0), Vec3(0, 0, 1)};
+    if (m_lens_radius > 0.f) {
+        // pbrt-v4's thin lens, as it is: the ray leaves the lens point around the camera's
+        // origin (not around the film point) towards the film point's spot on the focal plane.
+        Vec2 lens = sample_uniform_disk_concentric(s.p_lens) * m_lens_radius;
+        Vec3 focus = ray.o + ray.d * m_focal_distance;
+        ray.o = Vec3(lens.x, lens.y, 0);
+        ray.d = normalize(focus - ray.o);
+    }
+    return ray;
+}
+
+Ray PerspectiveCamera::spherical_ray(const CameraSample& s) const {
+    // The film is the unit square of the mapping (pbrt-v4's SphericalCamera): equirectangular
+    // with theta from +z down and phi around it, or the equal-area octahedral square; then y and
+    // z swap, so the top of an equirectangular image looks up (+y).
+    Vec2 uv(s.p_film.x / float(m_width), s.p_film.y / float(m_height));
+    Vec3 dir;
+    if (m_mapping == SphericalMapping::EquiRectangular) {
+        float theta = kPi * uv.y, phi = 2 * kPi * uv.x;
+        dir =
+            Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    } else {
+        dir = equal_area_square_to_sphere(
+            Vec2(std::clamp(uv.x, 0.f, 1.f), std::clamp(uv.y, 0.f, 1.f)));
+    }
+    std::swap(dir.y, dir.z);
+    return Ray{Vec3(0, 0, 0), normalize(dir)};
 }
 
 }  // namespace ml

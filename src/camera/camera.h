@@ -1,9 +1,13 @@
-// The perspective camera with a thin lens (pbrt-v4's "perspective": fov spans the shorter image
-// axis; camera space looks down +z with +y up and +x to the right of the image).
+// pbrt-v4's cameras but "realistic": "perspective" with a thin lens (fov spans the shorter image
+// axis), "orthographic" (thin lens as pbrt-v4 has it) and "spherical" (the whole sphere of
+// directions, equirectangular or equal-area). Camera space looks down +z with +y up and +x to the
+// right of the image. Light tracing and BDPT need the camera's importance (We, its pdfs and
+// sample_wi): only the perspective camera has it (pbrt-v4's other cameras lack it too).
 #pragma once
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "core/animated_transform.h"
 #include "core/math.h"
@@ -26,14 +30,22 @@ struct CameraWiSample {
     Vec2 p_raster;              // where the scene point lands on the film, pixels
 };
 
+enum class Projection { Perspective, Orthographic, Spherical };
+enum class SphericalMapping { EquiRectangular, EqualArea };
+
 class PerspectiveCamera {
 public:
     // Reads "fov", "lensradius", "focaldistance", "frameaspectratio", "screenwindow",
     // "shutteropen", "shutterclose" from `params`. The camera may move (an animated
     // camera-to-world transform, as pbrt-v4's CameraTransform): every query then takes the
     // time, from the ray's time or as an argument.
+    // `type` is pbrt-v4's camera name: "perspective", "orthographic" or "spherical" (which
+    // reads "mapping" too; "fov" is the perspective camera's alone).
     PerspectiveCamera(const ParameterList& params, const AnimatedTransform& camera_to_world,
-                      int width, int height);
+                      int width, int height, const std::string& type = "perspective");
+    Projection projection() const { return m_projection; }
+    // Whether importance(), pdf_we() and sample_wi() exist (the perspective camera's alone).
+    bool has_importance() const { return m_projection == Projection::Perspective; }
     // The ray's time is the shutter's at the fraction s.time.
     Ray generate_ray(const CameraSample& s) const;
     // The time at the fraction u of the shutter: how paths without a camera ray (light tracer
@@ -71,6 +83,14 @@ public:
 private:
     // Raster position of a camera-space point on the plane z = 1.
     Vec2 raster_of(const Vec3& p_plane) const;
+    // Throws unless has_importance(): light paths cannot reach this camera.
+    void require_importance() const;
+    // The camera-space ray of each projection, before the camera-to-world transform.
+    Ray perspective_ray(const CameraSample& s) const;
+    Ray orthographic_ray(const CameraSample& s) const;
+    Ray spherical_ray(const CameraSample& s) const;
+    Projection m_projection = Projection::Perspective;
+    SphericalMapping m_mapping = SphericalMapping::EqualArea;
     Transform world_to_camera(float time) const {
         return m_moves ? m_motion.at(time).inverse() : m_world_to_camera;
     }
@@ -84,6 +104,7 @@ private:
     float m_tan_half_fov;
     float m_lens_radius, m_focal_distance;
     float m_shutter_open, m_shutter_close;
+    FileLoc m_loc;  // the Camera directive's
 };
 
 }  // namespace ml

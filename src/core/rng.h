@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 #include "core/math.h"
 
@@ -59,6 +60,14 @@ inline void Rng::advance(int64_t idelta) {
         delta /= 2;
     }
     m_state = acc_mult * m_state + acc_plus;
+}
+
+// The bits of two floats as one integer, for hashing points and directions.
+inline uint64_t float_bits(float a, float b) {
+    uint32_t x, y;
+    std::memcpy(&x, &a, 4);
+    std::memcpy(&y, &b, 4);
+    return uint64_t(x) | (uint64_t(y) << 32);
 }
 
 // A hash of several integers, for seeding per-pixel sequences.

@@ -43,13 +43,6 @@ const char* embree_error_name(RTCError code) {
     return "error";
 }
 
-uint64_t float_bits(float a, float b) {
-    uint32_t x, y;
-    std::memcpy(&x, &a, 4);
-    std::memcpy(&y, &b, 4);
-    return uint64_t(x) | (uint64_t(y) << 32);
-}
-
 // pbrt-v4's stochastic alpha test, as an Embree filter: a candidate hit on a cut-out mesh is
 // dropped where alpha is 0, and where alpha is fractional when a uniform number drawn by hashing
 // the ray (origin and direction, as pbrt-v4's HashFloat(ray.o, ray.d)) and the triangle exceeds
@@ -74,7 +67,9 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
             uv1 = mesh->uv[mesh->indices[3 * prim + 1]];
             uv2 = mesh->uv[mesh->indices[3 * prim + 2]];
         }
-        float a = mesh->alpha->eval(o + d * t, uv0 * w + uv1 * u + uv2 * v);
+        const Vec3 ng(RTCHitN_Ng_x(hit, N, i), RTCHitN_Ng_y(hit, N, i), RTCHitN_Ng_z(hit, N, i));
+        float a = mesh->alpha->eval(o + d * t, uv0 * w + uv1 * u + uv2 * v,
+                                    length_squared(ng) > 0 ? normalize(ng) : ng);
         if (a >= 1) continue;
         bool keep = false;
         if (a > 0) {

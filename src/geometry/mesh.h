@@ -18,7 +18,8 @@ class Light;
 class AlphaMask {
 public:
     virtual ~AlphaMask() = default;
-    virtual float eval(const Vec3& p, const Vec2& uv) const = 0;
+    // At point p with texture coordinates uv on a surface of geometric normal ng (any length).
+    virtual float eval(const Vec3& p, const Vec2& uv, const Vec3& ng) const = 0;
 };
 
 struct TriangleMesh {

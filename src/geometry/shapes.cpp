@@ -201,6 +201,34 @@ std::unique_ptr<TriangleMesh> make_disk(const ParameterList& params, const FileL
     return mesh;
 }
 
+std::unique_ptr<TriangleMesh> make_cylinder(const ParameterList& params, const FileLoc& loc) {
+    float radius = params.get_float("radius", 1.f);
+    float zmin = params.get_float("zmin", -1.f), zmax = params.get_float("zmax", 1.f);
+    float phi_max = phi_max_param(params);
+    if (zmin > zmax) std::swap(zmin, zmax);  // as pbrt-v4
+    if (!(radius > 0.f) || !(zmax > zmin) || !(phi_max > 0.f))
+        throw_input_error(loc, "cylinder: needs radius > 0, zmin != zmax and phimax > 0");
+    // Straight along z: two rows of vertices are exact; the phi steps as the sphere's.
+    int np = std::max(4, int(std::ceil(kPhiSteps * phi_max / (2 * kPi))));
+    auto mesh = std::make_unique<TriangleMesh>();
+    for (int i = 0; i <= 1; ++i) {
+        float z = i == 0 ? zmin : zmax;
+        for (int j = 0; j <= np; ++j) {
+            float phi = j == np ? phi_max : phi_max * float(j) / np;
+            Vec3 n(std::cos(phi), std::sin(phi), 0.f);
+            mesh->p.push_back(Vec3(n.x * radius, n.y * radius, z));
+            mesh->n.push_back(n);
+            mesh->uv.emplace_back(phi / phi_max, float(i));  // pbrt's v = (z - zmin) / height
+        }
+    }
+    // Row 1 above row 0 and phi counterclockwise: (a, a + 1, b) winds outward.
+    for (int j = 0; j < np; ++j) {
+        uint32_t a = uint32_t(j), b = a + uint32_t(np + 1);
+        add_quad(*mesh, a, a + 1, b, b + 1);
+    }
+    return mesh;
+}
+
 void transform_mesh(TriangleMesh& mesh, const Transform& to_world, bool reverse_orientation) {
     const size_t nv = mesh.p.size();
     parallel_for_chunks(size_t(0), nv, size_t(1) << 14, [&](size_t begin, size_t end) {

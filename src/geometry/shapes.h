@@ -1,6 +1,6 @@
-// pbrt-v4 shapes as object-space triangle meshes: "trianglemesh" as given (validated), "sphere"
-// and "disk" tessellated finely enough that the facets do not show, with analytic per-vertex
-// normals and pbrt's (u, v) parameterisation. Then the move to world space.
+// pbrt-v4 shapes as object-space triangle meshes: "trianglemesh" as given (validated), "sphere",
+// "disk" and "cylinder" tessellated finely enough that the facets do not show, with analytic
+// per-vertex normals and pbrt's (u, v) parameterisation. Then the move to world space.
 #pragma once
 
 #include <memory>
@@ -19,6 +19,8 @@ std::unique_ptr<TriangleMesh> make_triangle_mesh(const ParameterList& params, co
 std::unique_ptr<TriangleMesh> make_bilinear_mesh(const ParameterList& params, const FileLoc& loc);
 std::unique_ptr<TriangleMesh> make_sphere(const ParameterList& params, const FileLoc& loc);
 std::unique_ptr<TriangleMesh> make_disk(const ParameterList& params, const FileLoc& loc);
+// pbrt-v4's "cylinder" (radius, zmin, zmax, phimax) about the z axis, open at both ends.
+std::unique_ptr<TriangleMesh> make_cylinder(const ParameterList& params, const FileLoc& loc);
 
 // Moves an object-space mesh to world space in place: points by `to_world`, normals by its
 // inverse transpose (renormalised). Sets flip_normals = reverse_orientation xor the transform's

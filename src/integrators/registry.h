@@ -16,6 +16,9 @@ struct IntegratorInfo {
     std::string name;
     std::string summary;
     std::function<std::unique_ptr<Integrator>(const Settings&)> create;
+    // Light paths reach the camera (light tracing, BDPT, Metropolis): the camera must have an
+    // importance function (PerspectiveCamera::has_importance).
+    bool needs_camera_importance = false;
 };
 
 const std::vector<IntegratorInfo>& integrator_registry();

@@ -137,14 +137,16 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     std::string filter_name = desc.filter.name.empty() ? "gaussian" : desc.filter.name;
     auto filter = create_filter(filter_name, desc.filter.params, desc.filter.loc);
     desc.filter.params.check_unused();
-    if (!desc.camera.name.empty() && desc.camera.name != "perspective")
-        throw_input_error(desc.camera.loc, "unsupported camera \"{}\" (perspective is)",
-                          desc.camera.name);
     // --look-at places a still camera; otherwise the scene's, moving if it does.
     AnimatedTransform camera_to_world =
         opt.look_at ? AnimatedTransform(look_at_camera(*opt.look_at, desc.world_to_camera))
                     : desc.camera_to_world();
-    plan.camera.emplace(desc.camera.params, camera_to_world, width, height);
+    if (desc.camera.name == "realistic")
+        throw_input_error(desc.camera.loc,
+                          "camera \"realistic\" (lens systems) is not supported; perspective, "
+                          "orthographic and spherical are");
+    plan.camera.emplace(desc.camera.params, camera_to_world, width, height,
+                        desc.camera.name.empty() ? "perspective" : desc.camera.name);
     desc.camera.params.check_unused();
 
     // Integrator: the command line's, else the scene's where we have it, else path.
@@ -159,6 +161,12 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
             desc.integrator.loc.to_string(), desc.integrator.name));
     const IntegratorInfo* info = find_integrator(name);
     if (!info) throw UsageError("unknown integrator \"" + name + "\"");
+    if (info->needs_camera_importance && !plan.camera->has_importance())
+        throw_input_error(desc.camera.loc,
+                          "integrator \"{}\" carries light paths to the camera, which needs the "
+                          "camera's importance; the {} camera has none (as in pbrt-v4): render "
+                          "it with path or a many-light integrator",
+                          name, desc.camera.name);
     std::map<std::string, std::string> overrides = opt.set;
     // The scene's parameters apply only to the integrator they were written for, except
     // "maxdepth": it is the scene's light transport (the longest path), and means the same in

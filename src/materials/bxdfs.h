@@ -88,6 +88,26 @@ private:
     float m_eta;
 };
 
+// A thin sheet of glass (pbrt-v4's ThinDielectricBxDF): light reflects specularly or passes
+// straight through (wi = -wo, no bending: the two faces are parallel), with the reflectance R of
+// one interface summed over the inter-reflections inside, R + T^2 R / (1 - R^2).
+class ThinDielectricBxdf final : public Bxdf {
+public:
+    explicit ThinDielectricBxdf(float eta) : m_eta(eta) {}
+    uint8_t flags() const override { return kBxdfReflection | kBxdfTransmission | kBxdfSpecular; }
+    RGB eval(const Vec3&, const Vec3&, TransportMode) const override { return RGB(); }
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3&, const Vec3&, TransportMode) const override { return 0; }
+    // Delta lobes only: nothing towards a point light.
+    RGB max_value_bound(const Vec3&, const DirectionCone&) const override { return RGB(); }
+    // The sheet's reflectance at |cos| = cos_o, inter-reflections included.
+    float reflectance(float cos_o) const;
+
+private:
+    float m_eta;
+};
+
 // The parts of pbrt-v4's clear (albedo 0) coat layer that survive in its BSDF's expected value:
 // the layer's absorption and the random walk's depth limit (see coated_diffuse.cpp).
 struct CoatLayer {

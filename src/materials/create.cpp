@@ -1,5 +1,5 @@
 // The `Material` directive's factory: pbrt-v4's parameter names and defaults for diffuse,
-// conductor, dielectric, coateddiffuse and diffusetransmission.
+// conductor, dielectric, thindielectric, coateddiffuse and diffusetransmission.
 #include "materials/create.h"
 
 #include "materials/materials.h"
@@ -101,7 +101,8 @@ RGB named_or_die(const char* name) { return named_spectrum_rgb(name).value_or(RG
 }  // namespace
 
 std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
-                                          const NamedTextures& textures, const FileLoc& loc) {
+                                          const NamedTextures& textures, const FileLoc& loc,
+                                          const std::map<std::string, const Material*>& named) {
     MaterialParams mp(params, textures);
     if (params.has("normalmap"))
         throw_input_error(loc_of(params, "normalmap", loc), "\"normalmap\" is not supported");
@@ -128,7 +129,7 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         return std::make_unique<ConductorMaterial>(eta, k, reflectance, has_reflectance,
                                                    mp.roughness(0), displacement);
     }
-    if (type == "dielectric" || type == "coateddiffuse") {
+    if (type == "dielectric" || type == "thindielectric" || type == "coateddiffuse") {
         // eta: a float, a float texture, or a spectrum (glasses are constant in RGB; a
         // spectrally varying one is averaged: no dispersion here).
         FloatParam eta{1.5f, nullptr};
@@ -141,6 +142,8 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         }
         if (type == "dielectric")
             return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), displacement);
+        if (type == "thindielectric")
+            return std::make_unique<ThinDielectricMaterial>(eta, displacement);
         RGBParam reflectance = mp.get_rgb("reflectance", RGB(0.5f));
         RoughnessParams roughness = mp.roughness(0);
         // pbrt-v4's layer thickness (absorption along each pass) and random-walk depth limit
@@ -167,8 +170,22 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         return std::make_unique<CoatedDiffuseMaterial>(reflectance, eta, roughness, thickness.value,
                                                        maxdepth, displacement);
     }
-    for (const char* pbrt : {"coatedconductor", "thindielectric", "mix", "hair", "measured",
-                             "subsurface", "interface"})
+    if (type == "mix") {
+        std::vector<std::string> names = params.get_strings("materials");
+        const FileLoc& at = loc_of(params, "materials", loc);
+        if (names.size() != 2)
+            throw_input_error(at, "mix: \"string materials\" must name two materials, got {}",
+                              names.size());
+        const Material* m[2];
+        for (int i = 0; i < 2; ++i) {
+            auto it = named.find(names[size_t(i)]);
+            if (it == named.end())
+                throw_input_error(at, "mix: undefined named material \"{}\"", names[size_t(i)]);
+            m[i] = it->second;
+        }
+        return std::make_unique<MixMaterial>(m[0], m[1], mp.get_float("amount", 0.5f));
+    }
+    for (const char* pbrt : {"coatedconductor", "hair", "measured", "subsurface", "interface"})
         if (type == pbrt)
             throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
                               type);

@@ -1,6 +1,7 @@
 // Materials: texture lookups, bump mapping and Bxdf construction at a hit.
 #include "materials/materials.h"
 
+#include "core/rng.h"
 #include "materials/bxdfs.h"
 #include "materials/fresnel.h"
 
@@ -10,9 +11,9 @@ Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displaceme
     if (!displacement) return Frame::from_normal_tangent(si.ns, si.dpdu);
     // Displace the surface along ns by d(u, v) and differentiate by finite differences.
     constexpr float kDelta = 0.0005f;
-    TextureEvalContext ctx{si.p, si.uv};
-    TextureEvalContext cu{si.p + si.dpdu * kDelta, Vec2(si.uv.x + kDelta, si.uv.y)};
-    TextureEvalContext cv{si.p + si.dpdv * kDelta, Vec2(si.uv.x, si.uv.y + kDelta)};
+    TextureEvalContext ctx{si.p, si.uv, si.ng};
+    TextureEvalContext cu{si.p + si.dpdu * kDelta, Vec2(si.uv.x + kDelta, si.uv.y), si.ng};
+    TextureEvalContext cv{si.p + si.dpdv * kDelta, Vec2(si.uv.x, si.uv.y + kDelta), si.ng};
     float d = displacement->eval(ctx);
     float du = (displacement->eval(cu) - d) / kDelta;
     float dv = (displacement->eval(cv) - d) / kDelta;
@@ -70,6 +71,23 @@ Bsdf DielectricMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& s
     if (eta == 0) eta = 1;
     return Bsdf(frame(si), si.ng,
                 scratch_new<DielectricBxdf>(scratch, m_roughness.distribution(ctx), eta));
+}
+
+Bsdf ThinDielectricMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
+    float eta = m_eta.eval(context(si));
+    if (eta == 0) eta = 1;
+    return Bsdf(frame(si), si.ng, scratch_new<ThinDielectricBxdf>(scratch, eta));
+}
+
+const Material* MixMaterial::choose(const SurfaceInteraction& si) const {
+    float amount = m_amount.eval({si.p, si.uv, si.ng});
+    if (amount <= 0) return m_materials[0];
+    if (amount >= 1) return m_materials[1];
+    // A uniform number in [0, 1) from the point and the direction (24 bits of the hash).
+    uint64_t h = hash_ints(float_bits(si.p.x, si.p.y), float_bits(si.p.z, si.wo.x),
+                           float_bits(si.wo.y, si.wo.z), 0x6d6978 /* "mix" */);
+    float u = float(h >> 40) * 0x1p-24f;
+    return amount < u ? m_materials[0] : m_materials[1];
 }
 
 CoatedDiffuseMaterial::CoatedDiffuseMaterial(RGBParam reflectance, FloatParam eta,

@@ -48,7 +48,7 @@ protected:
     Frame frame(const SurfaceInteraction& si) const {
         return shading_frame(si, m_displacement.get());
     }
-    static TextureEvalContext context(const SurfaceInteraction& si) { return {si.p, si.uv}; }
+    static TextureEvalContext context(const SurfaceInteraction& si) { return {si.p, si.uv, si.ng}; }
 
 private:
     std::shared_ptr<FloatTexture> m_displacement;
@@ -114,6 +114,36 @@ public:
 private:
     FloatParam m_eta;
     RoughnessParams m_roughness;
+};
+
+class ThinDielectricMaterial final : public MaterialBase {
+public:
+    ThinDielectricMaterial(FloatParam eta, std::shared_ptr<FloatTexture> displacement)
+        : MaterialBase(std::move(displacement)), m_eta(std::move(eta)) {}
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "thindielectric"; }
+
+private:
+    FloatParam m_eta;
+};
+
+// pbrt-v4's "mix": at each hit one of two materials, the second with probability `amount`,
+// chosen by a hash of the hit point and the outgoing direction (pbrt-v4's ChooseMaterial): no
+// sampler dimension, and the same choice wherever the same point is seen from the same
+// direction. Averaged over a pixel it is the blend of the two.
+class MixMaterial final : public Material {
+public:
+    MixMaterial(const Material* first, const Material* second, FloatParam amount)
+        : m_materials{first, second}, m_amount(std::move(amount)) {}
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override {
+        return choose(si)->get_bsdf(si, scratch);
+    }
+    std::string type() const override { return "mix"; }
+    const Material* choose(const SurfaceInteraction& si) const;
+
+private:
+    const Material* m_materials[2];
+    FloatParam m_amount;
 };
 
 class CoatedDiffuseMaterial final : public MaterialBase {

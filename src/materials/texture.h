@@ -13,6 +13,7 @@ namespace ml {
 struct TextureEvalContext {
     Vec3 p;
     Vec2 uv;
+    Vec3 n = Vec3(0, 0, 0);  // the geometric normal (directionmix); zero where there is none
 };
 
 class FloatTexture {

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "materials/create.h"
+#include "materials/procedural_textures.h"
 
 namespace ml {
 
@@ -213,6 +214,14 @@ TextureMapping2D parse_mapping(const ParameterList& params, const Transform& to_
     return m;
 }
 
+int noise_octaves_param(const ParameterList& params, const FileLoc& loc) {
+    int octaves = params.get_int("octaves", 8);
+    if (octaves < 1 || octaves > 32)
+        throw_input_error(loc_of(params, "octaves", loc), "\"octaves\" must lie in [1, 32], got {}",
+                          octaves);
+    return octaves;
+}
+
 WrapMode parse_wrap(const std::string& s, const FileLoc& loc) {
     if (s == "repeat") return WrapMode::Repeat;
     if (s == "black") return WrapMode::Black;
@@ -280,6 +289,13 @@ void create_texture(const std::string& name, const std::string& kind, const std:
         return std::make_shared<ConstantRGBTexture>(params.get_rgb(pname).value_or(def));
     };
 
+    // A value that may not be a texture (bilerp's corners).
+    auto rgb_value = [&](const std::string& pname, RGB def) {
+        if (const Param* p = params.find(pname); p && p->type == "float")
+            return RGB(params.get_float(pname, 1));
+        return params.get_rgb(pname).value_or(def);
+    };
+
     if (cls == "constant") {
         if (is_float)
             textures.floats[name] = float_arg("value", 1);
@@ -316,9 +332,60 @@ void create_texture(const std::string& name, const std::string& kind, const std:
         else
             textures.rgbs[name] = std::make_shared<CheckerboardRGBTexture>(
                 board, rgb_arg("tex1", RGB(1)), rgb_arg("tex2", RGB(0)));
-    } else if (cls == "bilerp" || cls == "dots" || cls == "fbm" || cls == "wrinkled" ||
-               cls == "windy" || cls == "marble" || cls == "mix" || cls == "directionmix" ||
-               cls == "ptex") {
+    } else if (cls == "bilerp") {
+        TextureMapping2D mapping = parse_mapping(params, to_world, loc);
+        if (is_float)
+            textures.floats[name] = std::make_shared<BilerpFloatTexture>(
+                mapping, params.get_float("v00", 0), params.get_float("v01", 1),
+                params.get_float("v10", 0), params.get_float("v11", 1));
+        else
+            textures.rgbs[name] = std::make_shared<BilerpRGBTexture>(
+                mapping, rgb_value("v00", RGB(0)), rgb_value("v01", RGB(1)),
+                rgb_value("v10", RGB(0)), rgb_value("v11", RGB(1)));
+    } else if (cls == "dots") {
+        // pbrt-v4 swaps the two (see DotsTexture): "outside" inside the dots.
+        TextureMapping2D mapping = parse_mapping(params, to_world, loc);
+        if (is_float)
+            textures.floats[name] = std::make_shared<DotsFloatTexture>(
+                mapping, float_arg("outside", 0), float_arg("inside", 1));
+        else
+            textures.rgbs[name] = std::make_shared<DotsRGBTexture>(
+                mapping, rgb_arg("outside", RGB(0)), rgb_arg("inside", RGB(1)));
+    } else if (cls == "fbm" || cls == "wrinkled" || cls == "windy") {
+        if (!is_float)
+            throw_input_error(loc, "\"{}\" is a float texture in pbrt-v4, not a spectrum one", cls);
+        using Kind = NoiseTexture::Kind;
+        Kind k = cls == "fbm" ? Kind::Fbm : cls == "wrinkled" ? Kind::Wrinkled : Kind::Windy;
+        int octaves = k == Kind::Windy ? 0 : noise_octaves_param(params, loc);
+        float omega = k == Kind::Windy ? 0 : params.get_float("roughness", .5f);
+        textures.floats[name] =
+            std::make_shared<NoiseTexture>(k, to_world.inverse(), octaves, omega);
+    } else if (cls == "marble") {
+        if (is_float)
+            throw_input_error(loc, "\"marble\" is a spectrum texture in pbrt-v4, not a float one");
+        int octaves = noise_octaves_param(params, loc);
+        float omega = params.get_float("roughness", .5f);
+        textures.rgbs[name] = std::make_shared<MarbleTexture>(to_world.inverse(), octaves, omega,
+                                                              params.get_float("scale", 1),
+                                                              params.get_float("variation", .2f));
+    } else if (cls == "mix" || cls == "directionmix") {
+        auto make = [&](auto tex1, auto tex2, auto base) {
+            using Mix = MixTexture<typename decltype(base)::element_type,
+                                   decltype(tex1->eval(TextureEvalContext{}))>;
+            if (cls == "mix") return std::make_shared<Mix>(tex1, tex2, float_arg("amount", .5f));
+            // The direction is in texture space, as pbrt-v4 reads it.
+            Vec3 dir = to_world.vector(params.get_point3("dir").value_or(Vec3(0, 1, 0)));
+            if (!(length_squared(dir) > 0))
+                throw_input_error(loc_of(params, "dir", loc), "directionmix: \"dir\" is zero");
+            return std::make_shared<Mix>(tex1, tex2, normalize(dir));
+        };
+        if (is_float)
+            textures.floats[name] =
+                make(float_arg("tex1", 0), float_arg("tex2", 1), std::shared_ptr<FloatTexture>());
+        else
+            textures.rgbs[name] = make(rgb_arg("tex1", RGB(0)), rgb_arg("tex2", RGB(1)),
+                                       std::shared_ptr<RGBTexture>());
+    } else if (cls == "ptex") {
         throw_input_error(loc, "the pbrt-v4 texture \"{}\" is not supported by manylight", cls);
     } else {
         throw_input_error(loc, "unknown texture class \"{}\"", cls);

@@ -321,7 +321,7 @@ void SceneBuilder::apply_attributes(const char* target, ParameterList& params) c
 
 void SceneBuilder::material(const std::string& type, const ParameterList& params,
                             const FileLoc& loc) {
-    auto m = create_material(type, params, m_desc.textures, loc);
+    auto m = create_material(type, params, m_desc.textures, loc, m_named_materials);
     params.check_unused();
     m_state.material = m.get();
     m_desc.materials.push_back(std::move(m));
@@ -335,7 +335,7 @@ void SceneBuilder::make_named_material(const std::string& name, const ParameterL
     const Param* type = params.find("type");
     if (!type) throw_input_error(loc, "MakeNamedMaterial \"{}\": \"string type\" is missing", name);
     std::string t = params.get_string("type", "");
-    auto m = create_material(t, params, m_desc.textures, loc);
+    auto m = create_material(t, params, m_desc.textures, loc, m_named_materials);
     params.check_unused();
     m_named_materials[name] = m.get();
     m_desc.materials.push_back(std::move(m));
@@ -378,7 +378,9 @@ namespace {
 class TextureAlphaMask final : public AlphaMask {
 public:
     explicit TextureAlphaMask(std::shared_ptr<const FloatTexture> tex) : m_tex(std::move(tex)) {}
-    float eval(const Vec3& p, const Vec2& uv) const override { return m_tex->eval({p, uv}); }
+    float eval(const Vec3& p, const Vec2& uv, const Vec3& ng) const override {
+        return m_tex->eval({p, uv, ng});
+    }
 
 private:
     std::shared_ptr<const FloatTexture> m_tex;
@@ -441,6 +443,8 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         src.mesh = make_sphere(params, loc);
     } else if (type == "disk") {
         src.mesh = make_disk(params, loc);
+    } else if (type == "cylinder") {
+        src.mesh = make_cylinder(params, loc);
     } else if (type == "plymesh") {
         for (const char* unsupported : {"displacement", "edgelength"})
             if (const Param* p = params.find(unsupported))
@@ -456,7 +460,7 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         std::error_code ec;
         if (!std::filesystem::exists(src.ply_path, ec))
             throw_input_error(f->loc, "{}: no such file", src.ply_path);
-    } else if (type == "cylinder" || type == "curve" || type == "loopsubdiv") {
+    } else if (type == "curve" || type == "loopsubdiv") {
         throw_input_error(loc, "the pbrt-v4 shape \"{}\" is not supported by manylight", type);
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);

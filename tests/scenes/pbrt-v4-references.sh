@@ -1,0 +1,17 @@
+#!/bin/bash
+# Renders the pbrt-v4 references of tests/test_pbrt_reference.cpp: each named scene of this
+# folder by pbrt-v4 at 1024 spp into NAME.exr beside it.
+#   tests/scenes/pbrt-v4-references.sh PBRT_BINARY [NAME ...]   (default: every reference)
+# pbrt-v4 is built by the lead's tools (not part of manylight); any pbrt-v4 build will do.
+set -euo pipefail
+pbrt=${1:?usage: $0 PBRT_BINARY [NAME ...]}
+shift
+cd "$(dirname "$0")"
+names=("$@")
+[ ${#names[@]} -gt 0 ] || names=(camera_orthographic camera_orthographic_lens camera_equirect
+  camera_equalarea tex_bilerp tex_dots tex_fbm tex_wrinkled tex_windy tex_marble tex_mix
+  tex_directionmix mat_thindielectric mat_mix shape_cylinder)
+for n in "${names[@]}"; do
+  echo "== $n"
+  "$pbrt" --quiet --spp 1024 --seed 1 --outfile "$n.exr" "$n.pbrt"
+done
