@@ -176,7 +176,7 @@ TEST_F(TextureTest, BadInputThrowsAtItsLocation) {
                        FileLoc{"scene.pbrt", 3, 1});
     };
     EXPECT_THROW(make("imagemap", {str("filename", "missing.png")}), InputError);
-    EXPECT_THROW(make("marble", {}), InputError);
+    EXPECT_THROW(make("ptex", {}), InputError);
     EXPECT_THROW(make("imagemap", {str("filename", "quad.pfm"), str("wrap", "mirror")}),
                  InputError);
     EXPECT_THROW(make("imagemap", {str("filename", "quad.pfm"), str("filter", "cubic")}),
