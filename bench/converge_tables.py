@@ -66,7 +66,8 @@ def main():
         for sc in SCENES:
             path[sc, t] = render(a, a.bin, sc, 'path', t, f'{sc}-path-{t}')
             for integ in ['path'] + MANY:
-                d = render(a, a.bin, sc, integ, t, f'{sc}-{integ}-{t}')
+                d = path[sc, t] if integ == 'path' else render(a, a.bin, sc, integ, t,
+                                                                f'{sc}-{integ}-{t}')
                 print(f"| {sc} | {integ} | {d['spp']:.1f} | {cells(d)} | "
                       f"{d['relmse'] / path[sc, t]['relmse']:.2f} |")
     if a.before:
