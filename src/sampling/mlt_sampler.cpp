@@ -129,4 +129,44 @@ void MltSampler::ensure_ready(size_t i) {
     x.last_modified = m_iteration;
 }
 
+nlohmann::json MltSampler::state() const {
+    std::vector<float> value, backup;
+    std::vector<int64_t> modified, modified_backup;
+    for (const PrimarySample& x : m_x) {
+        value.push_back(x.value);
+        backup.push_back(x.value_backup);
+        modified.push_back(x.last_modified);
+        modified_backup.push_back(x.modified_backup);
+    }
+    return {{"rng", m_rng.state()},
+            {"value", value},
+            {"value_backup", backup},
+            {"modified", modified},
+            {"modified_backup", modified_backup},
+            {"iteration", m_iteration},
+            {"last_large_step", m_last_large_step},
+            {"large_step", m_large_step},
+            {"stream", m_stream},
+            {"stream_sample", m_stream_sample}};
+}
+
+void MltSampler::restore(const nlohmann::json& j) {
+    m_rng.set_state(j.at("rng").get<std::array<uint64_t, 2>>());
+    auto value = j.at("value").get<std::vector<float>>();
+    auto backup = j.at("value_backup").get<std::vector<float>>();
+    auto modified = j.at("modified").get<std::vector<int64_t>>();
+    auto modified_backup = j.at("modified_backup").get<std::vector<int64_t>>();
+    if (backup.size() != value.size() || modified.size() != value.size() ||
+        modified_backup.size() != value.size())
+        throw Error("checkpoint: a Metropolis sampler's arrays differ in size");
+    m_x.resize(value.size());
+    for (size_t i = 0; i < m_x.size(); ++i)
+        m_x[i] = PrimarySample{value[i], backup[i], modified[i], modified_backup[i]};
+    m_iteration = j.at("iteration").get<int64_t>();
+    m_last_large_step = j.at("last_large_step").get<int64_t>();
+    m_large_step = j.at("large_step").get<bool>();
+    m_stream = j.at("stream").get<int>();
+    m_stream_sample = j.at("stream_sample").get<int64_t>();
+}
+
 }  // namespace ml

@@ -13,6 +13,8 @@
 // one untouched since a large step is redrawn when read.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <vector>
 
@@ -55,6 +57,11 @@ public:
     size_t dimension_count() const { return m_x.size(); }
     float value(size_t i) const { return m_x[i].value; }
     int64_t iteration() const { return m_iteration; }
+
+    // The chain's whole state (numbers, backups, iteration), to continue exactly elsewhere
+    // (checkpoints); restore() takes what state() gave a sampler made with the same parameters.
+    nlohmann::json state() const;
+    void restore(const nlohmann::json& state);
 
 private:
     struct PrimarySample {
