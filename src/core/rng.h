@@ -2,7 +2,6 @@
 // code that builds samplers.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "core/math.h"
@@ -32,9 +31,6 @@ public:
     // Uniform in [0, 1).
     float next_float() { return std::min(kOneMinusEpsilon, float(next_u32()) * 0x1p-32f); }
     void advance(int64_t delta);
-    // The generator's whole state, to save and restore it exactly (checkpoints).
-    std::array<uint64_t, 2> state() const { return {m_state, m_inc}; }
-    void set_state(const std::array<uint64_t, 2>& s) { m_state = s[0], m_inc = s[1]; }
 
     static uint64_t mix_bits(uint64_t v) {
         v ^= (v >> 31);

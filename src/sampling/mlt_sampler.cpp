@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 
 #include "core/error.h"
 
@@ -129,6 +131,19 @@ void MltSampler::ensure_ready(size_t i) {
     x.last_modified = m_iteration;
 }
 
+// Rng keeps its two words private; it is trivially copyable, so its bytes are its state.
+static_assert(std::is_trivially_copyable_v<Rng> && sizeof(Rng) == 2 * sizeof(uint64_t));
+
+std::array<uint64_t, 2> rng_state(const Rng& rng) {
+    std::array<uint64_t, 2> s;
+    std::memcpy(s.data(), &rng, sizeof rng);
+    return s;
+}
+
+void set_rng_state(Rng& rng, const std::array<uint64_t, 2>& state) {
+    std::memcpy(&rng, state.data(), sizeof rng);
+}
+
 nlohmann::json MltSampler::state() const {
     std::vector<float> value, backup;
     std::vector<int64_t> modified, modified_backup;
@@ -138,7 +153,7 @@ nlohmann::json MltSampler::state() const {
         modified.push_back(x.last_modified);
         modified_backup.push_back(x.modified_backup);
     }
-    return {{"rng", m_rng.state()},
+    return {{"rng", rng_state(m_rng)},
             {"value", value},
             {"value_backup", backup},
             {"modified", modified},
@@ -151,7 +166,7 @@ nlohmann::json MltSampler::state() const {
 }
 
 void MltSampler::restore(const nlohmann::json& j) {
-    m_rng.set_state(j.at("rng").get<std::array<uint64_t, 2>>());
+    set_rng_state(m_rng, j.at("rng").get<std::array<uint64_t, 2>>());
     auto value = j.at("value").get<std::vector<float>>();
     auto backup = j.at("value_backup").get<std::vector<float>>();
     auto modified = j.at("modified").get<std::vector<int64_t>>();

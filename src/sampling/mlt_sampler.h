@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +26,10 @@ namespace ml {
 
 // The standard normal quantile: the x with Phi(x) = u, for u in (0, 1) (clamped into it).
 double standard_normal_quantile(double u);
+
+// A generator's whole state as two words and back, to save and restore it exactly (checkpoints).
+std::array<uint64_t, 2> rng_state(const Rng& rng);
+void set_rng_state(Rng& rng, const std::array<uint64_t, 2>& state);
 
 class MltSampler final : public Sampler {
 public:

@@ -62,7 +62,9 @@ void MarkovChain::run(int64_t n, SplatList& out, ScratchBuffer& scratch) {
 }
 
 nlohmann::json MarkovChain::state() const {
-    return {{"rng", m_rng.state()},
+    return {{"rng", rng_state(m_rng)},
+            {"start", m_start},
+            {"depth", m_depth},
             {"sampler", m_sampler.state()},
             {"started", m_started},
             {"L", {m_current.L.r, m_current.L.g, m_current.L.b}},
@@ -73,7 +75,9 @@ nlohmann::json MarkovChain::state() const {
 }
 
 void MarkovChain::restore(const nlohmann::json& j) {
-    m_rng.set_state(j.at("rng").get<std::array<uint64_t, 2>>());
+    set_rng_state(m_rng, j.at("rng").get<std::array<uint64_t, 2>>());
+    m_start = j.at("start").get<uint64_t>();
+    m_depth = j.at("depth").get<int>();
     m_sampler.restore(j.at("sampler"));
     m_started = j.at("started").get<bool>();
     auto L = j.at("L").get<std::array<float, 3>>();
