@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <array>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -104,7 +104,7 @@ std::string f_name(const RenderOutput& out) { return out.figures.integrator; }
 std::atomic<bool> g_stop{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 
-extern "C" void on_stop_signal(int) {
+void on_stop_signal(int) {
     if (g_stop.exchange(true)) ::_exit(kInterruptedExit);
 }
 

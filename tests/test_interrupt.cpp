@@ -3,8 +3,8 @@
 // exits 130; with --checkpoint the render then resumes to the uninterrupted image, bit for bit.
 // A second signal ends the process at once. Under mpirun, each rank saves and resumes its own
 // part (rank r > 0 in FILE.rank<r>), and a checkpoint of two ranks is refused by one.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -97,10 +97,10 @@ protected:
 TEST_F(Interrupt, CtrlCWritesThePartialImageAndExits130) {
     const std::string scene = path("glow.pbrt"), out = path("glow.pfm");
     std::ofstream(scene) << ml::test::furnace_scene(0.f, 0.5f, 16);
-    Child c = run_and_signal({"render", scene, "-q", "--threads", "1", "--integrator", "path",
-                              "--spp", "1000000", "--checkpoint", path("glow.ckpt"),
-                              "--checkpoint-every", "0", "-o", out},
-                             {{1.5, SIGINT}}, path("err.txt"));
+    Child c = run_and_signal(
+        {"render", scene, "-q", "--threads", "1", "--integrator", "path", "--spp", "1000000",
+         "--checkpoint", path("glow.ckpt"), "--checkpoint-every", "0", "-o", out},
+        {{1.5, SIGINT}}, path("err.txt"));
     EXPECT_EQ(c.code, 130) << c.err;
     EXPECT_NE(c.err.find("interrupted: wrote the image so far to " + out), std::string::npos)
         << c.err;
@@ -122,9 +122,9 @@ TEST_F(Interrupt, CtrlCWritesThePartialImageAndExits130) {
 // Stopped by SIGINT with a checkpoint, then resumed from it: the uninterrupted image, bit for
 // bit (.pfm holds the floats exactly).
 TEST_F(Interrupt, AStoppedRenderResumesToTheSameImage) {
-    const std::vector<std::string> common{"render", "-q", "--threads", "1", "--integrator",
-                                          "path", "--resolution", "32x24", "--spp", "400",
-                                          "--seed", "3"};
+    const std::vector<std::string> common{"render",       "-q",   "--threads",    "1",
+                                          "--integrator", "path", "--resolution", "16x12",
+                                          "--spp",        "3000", "--seed",       "3"};
     auto with = [&](std::vector<std::string> extra) {
         std::vector<std::string> a = common;
         a.insert(a.end(), extra.begin(), extra.end());
@@ -132,7 +132,7 @@ TEST_F(Interrupt, AStoppedRenderResumesToTheSameImage) {
     };
     const std::string ckpt = path("box.ckpt");
     Child stopped = run_and_signal(with({"--checkpoint", ckpt, "-o", path("part.pfm")}),
-                                   {{1.0, SIGINT}}, path("err1.txt"));
+                                   {{0.5, SIGINT}}, path("err1.txt"));
     ASSERT_EQ(stopped.code, 130) << stopped.err << " (the render ended before the signal?)";
     Child resumed = run_and_signal(
         with({"--resume", ckpt, "-o", path("resumed.pfm"), "--stats", path("resumed.json")}), {},
@@ -169,19 +169,19 @@ TEST_F(Interrupt, MpiRanksSaveAndResumeTheirParts) {
     std::string mpirun = "timeout 120 mpirun -np 2 --oversubscribe";
     if (::geteuid() == 0) mpirun += " --allow-run-as-root";
     const std::string common = std::string(MANYLIGHT_BINARY) +
-                               " render -q --threads 1 --integrator path --resolution 40x30 "
-                               "--seed 5 --spp 2000 ";
+                               " render -q --threads 1 --integrator path --resolution 24x16 "
+                               "--seed 5 --spp 3000 ";
     const std::string ckpt = path("mpi.ckpt");
     auto sh = [&](const std::string& cmd) {
         return std::system((cmd + " > " + path("log.txt") + " 2>&1").c_str());
     };
-    ASSERT_EQ(sh(mpirun + " " + common + "--time-limit 0.3 --checkpoint " + ckpt + " -o " +
+    ASSERT_EQ(sh(mpirun + " " + common + "--time-limit 0.1 --checkpoint " + ckpt + " -o " +
                  path("part.pfm") + " --stats " + path("part.json")),
               0);
     EXPECT_TRUE(fs::exists(ckpt));
     EXPECT_TRUE(fs::exists(ckpt + ".rank1"));
     nlohmann::json part = nlohmann::json::parse(std::ifstream(path("part.json")));
-    ASSERT_LT(part.at("spp").get<int>(), 2000) << "the time limit did not stop the render";
+    ASSERT_LT(part.at("spp").get<int>(), 3000) << "the time limit did not stop the render";
     ASSERT_EQ(sh(mpirun + " " + common + "--resume " + ckpt + " -o " + path("resumed.pfm")), 0);
     ASSERT_EQ(sh(common + "-o " + path("full.pfm")), 0);
     ml::Image a = ml::read_image(path("full.pfm")), b = ml::read_image(path("resumed.pfm"));

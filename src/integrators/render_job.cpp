@@ -199,14 +199,10 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
         if (!(opt.checkpoint_every >= 0))
             throw UsageError("--checkpoint-every: expected seconds >= 0");
         nlohmann::json look_at = opt.look_at ? nlohmann::json(*opt.look_at) : nlohmann::json();
-        plan.fingerprint = {{"scene", opt.scene_id},
-                            {"integrator", name},
-                            {"settings", overrides},
-                            {"resolution", {width, height}},
-                            {"seed", seed},
-                            {"spp", spp},
-                            {"sampler", sampler_name},
-                            {"look_at", look_at}};
+        plan.fingerprint = {
+            {"scene", opt.scene_id},         {"integrator", name}, {"settings", overrides},
+            {"resolution", {width, height}}, {"seed", seed},       {"spp", spp},
+            {"sampler", sampler_name},       {"look_at", look_at}};
     }
     plan.sampler = create_sampler(sampler_name, spp, seed);
     plan.width = width;
@@ -280,8 +276,8 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
     // sums, and its time limit counts the time already spent.
     std::optional<Checkpoint> checkpoint;
     if (!opt.checkpoint.empty() || !opt.resume.empty()) {
-        checkpoint.emplace(opt.checkpoint, opt.checkpoint_every, opt.resume, plan.fingerprint,
-                           film, world);
+        checkpoint.emplace(opt.checkpoint, opt.checkpoint_every, opt.resume, plan.fingerprint, film,
+                           world);
         ctx.checkpoint = &*checkpoint;
         if (checkpoint->resuming()) {
             fig.resumed_from = checkpoint->units();

@@ -21,7 +21,9 @@ std::string rank_path(const std::string& path, const World& world) {
     return world.rank() == 0 ? path : path + ".rank" + std::to_string(world.rank());
 }
 
-std::string show(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+std::string show(const nlohmann::json& v) {
+    return v.is_string() ? v.get<std::string>() : v.dump();
+}
 
 }  // namespace
 

@@ -47,12 +47,12 @@ struct RoundPlan {
     std::function<void(int64_t done)> after_round;
 };
 
-// Runs rounds from `plan.done` until `plan.total` units are done: round(done, units) runs up to `units` more units
-// (the caller clips them to what is left) and returns how many it ran; 0 (nothing left to run,
-// or a round cut short by the time limit, which then does not count) ends the loop. Without a
-// time limit, rounds of plan.most units (the whole budget by default); under one, a first round
-// of plan.first_timed units, then each as next_round_size says, timed from the render's start
-// (RenderContext::elapsed). Reports progress after each round. A cancelled render starts no
+// Runs rounds from `plan.done` until `plan.total` units are done: round(done, units) runs up to
+// `units` more units (the caller clips them to what is left) and returns how many it ran; 0
+// (nothing left to run, or a round cut short by the time limit, which then does not count) ends the
+// loop. Without a time limit, rounds of plan.most units (the whole budget by default); under one, a
+// first round of plan.first_timed units, then each as next_round_size says, timed from the render's
+// start (RenderContext::elapsed). Reports progress after each round. A cancelled render starts no
 // round. Returns the units done (plan.done included).
 // Across ranks, round() must return the same count on every rank (a sum over the ranks where
 // each runs a share), or 0 where it was cut short: run_rounds takes the least over the ranks,

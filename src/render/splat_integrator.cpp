@@ -100,7 +100,8 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
     for (int t = 0; t < tile_count; ++t) {
         if (!ctx.owns(t)) continue;
         const int x0 = (t % tiles_x) * kTile, y0 = (t / tiles_x) * kTile;
-        const int64_t pixels = int64_t(std::min(w, x0 + kTile) - x0) * (std::min(h, y0 + kTile) - y0);
+        const int64_t pixels =
+            int64_t(std::min(w, x0 + kTile) - x0) * (std::min(h, y0 + kTile) - y0);
         behind += tile_units[size_t(t)] != done;
         samples += pixels * tile_units[size_t(t)];
     }
