@@ -18,6 +18,7 @@
 
 #include "integrators/render_job.h"
 #include "render/checkpoint.h"
+#include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene_desc.h"
 
@@ -80,29 +81,13 @@ protected:
         return {render(o).image, resumed.image};
     }
     static void expect_bit_identical(const ml::Image& a, const ml::Image& b) {
-        ASSERT_EQ(a.pixels.size(), b.pixels.size());
-        size_t differ = 0, lit = 0;
-        for (size_t i = 0; i < a.pixels.size(); ++i)
-            for (int c = 0; c < 3; ++c) {
-                differ += a.pixels[i][c] != b.pixels[i][c];
-                lit += a.pixels[i][c] > 0;
-            }
-        EXPECT_EQ(differ, 0u);
-        EXPECT_GT(lit, a.pixels.size());  // not black on both sides
+        EXPECT_EQ(ml::test::differing_channels(a, b), 0u);
+        EXPECT_GT(ml::test::lit_channels(a), a.pixels.size());  // not black on both sides
     }
     // Each channel within `rel` (relative, floor 1e-6 absolute): float rounding.
     static void expect_within(const ml::Image& a, const ml::Image& b, double rel) {
-        ASSERT_EQ(a.pixels.size(), b.pixels.size());
-        double worst = 0;
-        size_t lit = 0;
-        for (size_t i = 0; i < a.pixels.size(); ++i)
-            for (int c = 0; c < 3; ++c) {
-                double x = a.pixels[i][c], y = b.pixels[i][c];
-                worst = std::max(worst, std::abs(x - y) / std::max(std::abs(x), 1e-6));
-                lit += x > 0;
-            }
-        EXPECT_LE(worst, rel);
-        EXPECT_GT(lit, a.pixels.size());
+        EXPECT_LE(ml::test::worst_relative_difference(a, b), rel);
+        EXPECT_GT(ml::test::lit_channels(a), a.pixels.size());
     }
 
     fs::path m_dir;
