@@ -386,7 +386,8 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
 LoadedScene load_scene(const std::string& path) {
     auto t0 = std::chrono::steady_clock::now();
     LoadedScene loaded{path.empty() ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
-                                    : parse_scene_file(path)};
+                                    : parse_scene_file(path),
+                       0, ""};
     loaded.seconds_load = seconds_since(t0);
     // The scene's identity for checkpoints: its file's text (what it includes is not hashed).
     std::string text = default_scene_text();

@@ -141,7 +141,7 @@ std::array<uint64_t, 2> rng_state(const Rng& rng) {
 }
 
 void set_rng_state(Rng& rng, const std::array<uint64_t, 2>& state) {
-    std::memcpy(&rng, state.data(), sizeof rng);
+    std::memcpy(static_cast<void*>(&rng), state.data(), sizeof rng);
 }
 
 nlohmann::json MltSampler::state() const {
