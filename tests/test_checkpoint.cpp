@@ -21,21 +21,15 @@
 #include "render_helpers.h"
 #include "scene/default_scene.h"
 #include "scene/scene_desc.h"
+#include "temp_dir_test.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-class Checkpoints : public ::testing::Test {
+class Checkpoints : public ml::test::TempDirTest {
 protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("manylight-checkpoint-" + std::to_string(::getpid()) + "-" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+    Checkpoints() : TempDirTest("checkpoint") {}
 
     // The Cornell box at 24x18, seed 7, two threads.
     static ml::RenderOptions options(const std::string& integrator, int spp) {
@@ -89,8 +83,6 @@ protected:
         EXPECT_LE(ml::test::worst_relative_difference(a, b), rel);
         EXPECT_GT(ml::test::lit_channels(a), a.pixels.size());
     }
-
-    fs::path m_dir;
 };
 
 }  // namespace

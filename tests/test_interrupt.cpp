@@ -22,6 +22,7 @@
 #include "distributed/mpi_world.h"
 #include "film/image.h"
 #include "render_helpers.h"
+#include "temp_dir_test.h"
 
 namespace fs = std::filesystem;
 
@@ -76,17 +77,9 @@ Child run_and_signal(const std::vector<std::string>& args,
     return c;
 }
 
-class Interrupt : public ::testing::Test {
+class Interrupt : public ml::test::TempDirTest {
 protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("manylight-interrupt-" + std::to_string(::getpid()) + "-" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-    fs::path m_dir;
+    Interrupt() : TempDirTest("interrupt") {}
 };
 
 }  // namespace
