@@ -188,9 +188,9 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     if (!opt.checkpoint.empty() || !opt.resume.empty()) {
         if (!integrator->can_checkpoint()) {
             std::vector<std::string> can;
-            for (const std::string& n : integrator_names())
-                if (find_integrator(n)->create(Settings(n, nullptr, {}))->can_checkpoint())
-                    can.push_back(n);
+            for (const IntegratorInfo& other : integrator_registry())
+                if (other.create(Settings(other.name, nullptr, {}))->can_checkpoint())
+                    can.push_back(other.name);
             throw UsageError(fmt::format(
                 "--checkpoint/--resume: integrator \"{}\" with these settings cannot save its "
                 "state; these can: {}",
