@@ -111,6 +111,7 @@ void on_stop_signal(int) {
 void catch_stop_signals() {
     struct sigaction action {};
     action.sa_handler = on_stop_signal;
+    action.sa_flags = SA_RESTART;  // a write under way (the image, a checkpoint) goes on
     sigemptyset(&action.sa_mask);
     ::sigaction(SIGINT, &action, nullptr);
     ::sigaction(SIGTERM, &action, nullptr);
