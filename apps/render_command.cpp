@@ -120,6 +120,7 @@ void catch_stop_signals() {
 }  // namespace
 
 int run_render(const RenderArgs& a, World& world) {
+    catch_stop_signals();  // from the start: a stop while the scene loads renders nothing
     RenderOptions o;
     o.world = &world;
     o.integrator = a.integrator;
@@ -161,7 +162,6 @@ int run_render(const RenderArgs& a, World& world) {
     if (ext != ".exr" && ext != ".png" && ext != ".pfm")
         throw UsageError("output " + output + ": use .exr, .png or .pfm");
 
-    catch_stop_signals();
     RenderOutput out = render_loaded_scene(std::move(scene), o);
     const bool stopped = g_stop.load();
     // Across ranks only rank 0 holds the whole image and figures; the others write nothing.
