@@ -24,6 +24,9 @@ struct RenderArgs {
     std::string bias_check = "auto";
     double bias_check_share = 0.1;
     int bias_check_pixels = 256, bias_check_spp = 0;
+    // --checkpoint FILE (save every checkpoint_every seconds and at the end), --resume FILE.
+    std::string checkpoint, resume;
+    double checkpoint_every = 60;
 };
 void add_render_command(CLI::App& app, RenderArgs& args);
 // Under mpirun, `world` holds the ranks: every rank renders its share, rank 0 writes the image,

@@ -52,6 +52,18 @@ CLI::Validator positive_seconds() {
         "SECONDS");
 }
 
+CLI::Validator non_negative_seconds() {
+    return CLI::Validator(
+        [](std::string& s) -> std::string {
+            char* end = nullptr;
+            double v = s.empty() ? 0 : std::strtod(s.c_str(), &end);
+            if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) || v < 0)
+                return "expected a number of seconds, 0 or more" + got(s);
+            return {};
+        },
+        "SECONDS");
+}
+
 CLI::Validator share_of_time() {
     return CLI::Validator(
         [](std::string& s) -> std::string {

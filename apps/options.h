@@ -19,8 +19,11 @@ CLI::Validator one_of(const std::vector<std::string>& names, const std::string& 
 CLI::Validator setting();       // NAME.KEY=VALUE
 CLI::Validator output_image();  // .exr, .png or .pfm in a folder that exists
 CLI::Validator file_in_existing_folder();
+CLI::Validator non_negative_seconds();  // 0 or more seconds
 
 // Every message the command line prints starts with this.
 inline constexpr const char* kMessagePrefix = "manylight: ";
+// The exit code of a render stopped by Ctrl-C or SIGTERM (128 + SIGINT, as shells report it).
+inline constexpr int kInterruptedExit = 130;
 
 }  // namespace ml

@@ -1,8 +1,12 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -67,6 +71,17 @@ void add_render_command(CLI::App& app, RenderArgs& a) {
                   "path samples per bias-check pixel (default: from the share; a cap under "
                   "--time-limit)")
         ->check(positive_integer());
+    r->add_option("--checkpoint", a.checkpoint,
+                  "save the render's state to this file every --checkpoint-every seconds and at "
+                  "the end (or on Ctrl-C), to continue it with --resume")
+        ->check(file_in_existing_folder());
+    r->add_option("--checkpoint-every", a.checkpoint_every,
+                  "seconds between checkpoints (default 60; 0: after every pass)")
+        ->check(non_negative_seconds());
+    r->add_option("--resume", a.resume,
+                  "continue the render saved in this checkpoint (same scene, integrator, "
+                  "settings, resolution, seed and spp); may be the --checkpoint file too")
+        ->check(CLI::ExistingFile);
     r->add_flag("-q,--quiet", a.quiet, "no progress bar or summary");
 }
 
@@ -83,9 +98,29 @@ void parse_resolution(const std::string& s, RenderOptions& o) {
 
 std::string f_name(const RenderOutput& out) { return out.figures.integrator; }
 
+// Ctrl-C and SIGTERM: the first stops the render at the next tile (the render loops watch this
+// flag, as they watch the viewer's), the second ends the process at once. The handler only
+// touches a lock-free atomic and calls _exit: both are async-signal-safe.
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+void on_stop_signal(int) {
+    if (g_stop.exchange(true)) ::_exit(kInterruptedExit);
+}
+
+void catch_stop_signals() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    action.sa_flags = SA_RESTART;  // a write under way (the image, a checkpoint) goes on
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, nullptr);
+    ::sigaction(SIGTERM, &action, nullptr);
+}
+
 }  // namespace
 
 int run_render(const RenderArgs& a, World& world) {
+    catch_stop_signals();  // from the start: a stop while the scene loads renders nothing
     RenderOptions o;
     o.world = &world;
     o.integrator = a.integrator;
@@ -97,6 +132,10 @@ int run_render(const RenderArgs& a, World& world) {
     o.threads = a.threads;
     o.time_limit = a.time_limit;
     o.progress = !a.quiet;
+    o.checkpoint = a.checkpoint;
+    o.checkpoint_every = a.checkpoint_every;
+    o.resume = a.resume;
+    o.cancel = &g_stop;
     o.bias_check.mode = parse_bias_check_mode(a.bias_check);
     o.bias_check.share = a.bias_check_share;
     o.bias_check.pixels = a.bias_check_pixels;
@@ -124,8 +163,9 @@ int run_render(const RenderArgs& a, World& world) {
         throw UsageError("output " + output + ": use .exr, .png or .pfm");
 
     RenderOutput out = render_loaded_scene(std::move(scene), o);
+    const bool stopped = g_stop.load();
     // Across ranks only rank 0 holds the whole image and figures; the others write nothing.
-    if (!world.root()) return 0;
+    if (!world.root()) return stopped ? kInterruptedExit : 0;
     // Extra images next to the output, checked before anything is written.
     std::vector<std::pair<std::string, const Image*>> aov_files;
     for (const std::string& name : a.aovs) {
@@ -167,6 +207,19 @@ int run_render(const RenderArgs& a, World& world) {
             f.seconds_load, f.seconds_build, f.seconds_render,
             f.seconds_render > 0 ? rays / f.seconds_render * 1e-6 : 0.0, output.c_str());
         if (f.bias_check) std::printf("%s%s\n", kMessagePrefix, f.bias_check->summary().c_str());
+    }
+    if (stopped) {
+        // Always said, --quiet or not: the image is not the one asked for.
+        std::fflush(stdout);
+        std::string message = fmt::format(
+            "{}interrupted: wrote the image so far to {} ({} samples per pixel done in full; "
+            "each pixel is the mean of the samples it got)",
+            kMessagePrefix, output, f.spp);
+        if (!a.checkpoint.empty())
+            message += "; the render's state is in " + a.checkpoint + ": continue with --resume " +
+                       a.checkpoint;
+        std::fprintf(stderr, "%s\n", message.c_str());
+        return kInterruptedExit;
     }
     return 0;
 }

@@ -80,7 +80,10 @@ RenderOptions options_from(const std::optional<std::string>& integrator, std::op
                            std::optional<long long> seed, std::optional<double> time_limit,
                            const std::optional<py::dict>& settings, std::optional<int> max_depth,
                            const std::optional<std::string>& sampler, std::optional<int> threads,
-                           const std::optional<std::vector<float>>& look_at) {
+                           const std::optional<std::vector<float>>& look_at,
+                           const std::optional<std::string>& checkpoint,
+                           std::optional<double> checkpoint_every,
+                           const std::optional<std::string>& resume) {
     RenderOptions o;
     if (integrator) o.integrator = *integrator;
     if (spp) {
@@ -122,6 +125,13 @@ RenderOptions options_from(const std::optional<std::string>& integrator, std::op
         std::copy(look_at->begin(), look_at->end(), v.begin());
         o.look_at = v;
     }
+    if (checkpoint) o.checkpoint = *checkpoint;
+    if (checkpoint_every) {
+        check(std::isfinite(*checkpoint_every) && *checkpoint_every >= 0, "checkpoint_every",
+              "a number of seconds, 0 or more", *checkpoint_every);
+        o.checkpoint_every = *checkpoint_every;
+    }
+    if (resume) o.resume = *resume;
     if (settings)
         for (auto [k, v] : *settings) {
             std::string key = py::str(k).cast<std::string>();
@@ -229,14 +239,19 @@ py::tuple render(const py::object& scene, const std::optional<std::string>& inte
                  std::optional<long long> seed, std::optional<double> time_limit,
                  const std::optional<py::dict>& settings, std::optional<int> max_depth,
                  const std::optional<std::string>& sampler, std::optional<int> threads,
-                 const std::optional<std::vector<float>>& look_at, const py::object& progress) {
-    std::string path;
-    if (!scene.is_none())
-        path = py::str(py::module_::import("os").attr("fspath")(scene)).cast<std::string>();
+                 const std::optional<std::vector<float>>& look_at, const py::object& progress,
+                 const py::object& checkpoint, std::optional<double> checkpoint_every,
+                 const py::object& resume) {
+    auto fspath = [](const py::object& p) -> std::optional<std::string> {
+        if (p.is_none()) return std::nullopt;
+        return py::str(py::module_::import("os").attr("fspath")(p)).cast<std::string>();
+    };
+    std::string path = fspath(scene).value_or("");
     if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
         throw UsageError("progress: expected a callable taking the fraction done");
-    RenderOptions o = options_from(integrator, spp, resolution, seed, time_limit, settings,
-                                   max_depth, sampler, threads, look_at);
+    RenderOptions o =
+        options_from(integrator, spp, resolution, seed, time_limit, settings, max_depth, sampler,
+                     threads, look_at, fspath(checkpoint), checkpoint_every, fspath(resume));
     RenderOutput out = run_render(path, std::move(o), progress);
     for (const std::string& w : out.figures.warnings)
         if (PyErr_WarnEx(g_render_warning, w.c_str(), 1) != 0) throw py::error_already_set();
@@ -316,7 +331,8 @@ PYBIND11_MODULE(manylight, m) {
           py::arg("time_limit") = py::none(), py::arg("settings") = py::none(),
           py::arg("max_depth") = py::none(), py::arg("sampler") = py::none(),
           py::arg("threads") = py::none(), py::arg("look_at") = py::none(),
-          py::arg("progress") = py::none(),
+          py::arg("progress") = py::none(), py::arg("checkpoint") = py::none(),
+          py::arg("checkpoint_every") = py::none(), py::arg("resume") = py::none(),
           R"(Renders a pbrt-v4 scene as `manylight render` does; returns (image, stats).
 
 scene: the scene file (str or path); None renders the built-in Cornell box.
@@ -329,12 +345,15 @@ where it has them, else path tracing at 16 samples per pixel, seed 0.
   settings     {"NAME.KEY": value}, each --set NAME.KEY=VALUE (bool, int, float or str)
   max_depth    --max-depth;  sampler: --sampler;  threads: --threads (default all cores)
   look_at      9 numbers, --look-at EX EY EZ TX TY TZ UX UY UZ
+  checkpoint   --checkpoint FILE (str or path): the render's state, saved every
+               checkpoint_every seconds (--checkpoint-every, default 60), at the end and
+               when cancelled;  resume: --resume FILE, continue the render saved there
   progress     a callable given the fraction done (0 to 1), from this thread, at most
                every 50 ms and once with 1.0 at the end; an exception it raises cancels the
                render and is raised here.
 image: float32 numpy array (height, width, 3), linear RGB, top row first.
 stats: the --stats object as a dict.
-Ctrl-C cancels the render and raises KeyboardInterrupt. Errors: InputError (with the scene
+Ctrl-C cancels the render (saving the checkpoint, if asked) and raises KeyboardInterrupt. Errors: InputError (with the scene
 file's place), UsageError, Error. Warnings: RenderWarning. One render at a time per process
 (the GIL is released while it runs).)");
     m.def("integrators", &integrators,

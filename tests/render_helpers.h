@@ -107,4 +107,31 @@ inline MeanDifference mean_difference(const Image& a, const Image& b, int c) {
     return m;
 }
 
+// Channels in which two images of one size differ at all (0: the same bits), and channels of
+// `a` above 0 (to tell a real comparison from two black images).
+inline size_t differing_channels(const Image& a, const Image& b) {
+    EXPECT_EQ(a.pixels.size(), b.pixels.size());
+    size_t n = 0;
+    for (size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i)
+        for (int c = 0; c < 3; ++c) n += a.pixels[i][c] != b.pixels[i][c];
+    return n;
+}
+inline size_t lit_channels(const Image& a) {
+    size_t n = 0;
+    for (const RGB& p : a.pixels)
+        for (int c = 0; c < 3; ++c) n += p[c] > 0;
+    return n;
+}
+// The largest relative difference of a channel (relative to a's, floor 1e-6 absolute).
+inline double worst_relative_difference(const Image& a, const Image& b) {
+    EXPECT_EQ(a.pixels.size(), b.pixels.size());
+    double worst = 0;
+    for (size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i)
+        for (int c = 0; c < 3; ++c) {
+            double x = a.pixels[i][c], y = b.pixels[i][c];
+            worst = std::max(worst, std::abs(x - y) / std::max(std::abs(x), 1e-6));
+        }
+    return worst;
+}
+
 }  // namespace ml::test

@@ -26,19 +26,9 @@ void Film::reduce_to_root(World& world) {
     for (const Pixel& p : m_pixels) any_sample = any_sample || p.weight != 0;
     for (const auto& s : m_splats) any_splat = any_splat || s.load(std::memory_order_relaxed) != 0;
     if (world.all_sum(any_sample ? 1 : 0) > 0) {
-        std::vector<double> sums(m_pixels.size() * 4);
-        for (size_t i = 0; i < m_pixels.size(); ++i) {
-            const Pixel& p = m_pixels[i];
-            double* d = &sums[i * 4];
-            d[0] = p.rgb[0], d[1] = p.rgb[1], d[2] = p.rgb[2], d[3] = p.weight;
-        }
-        world.reduce_sum(sums.data(), sums.size());
-        if (world.root())
-            for (size_t i = 0; i < m_pixels.size(); ++i) {
-                Pixel& p = m_pixels[i];
-                const double* d = &sums[i * 4];
-                p.rgb[0] = d[0], p.rgb[1] = d[1], p.rgb[2] = d[2], p.weight = d[3];
-            }
+        std::vector<double> all = sums();
+        world.reduce_sum(all.data(), all.size());
+        if (world.root()) set_sums(all, nonfinite_samples());
     }
     if (world.all_sum(any_splat ? 1 : 0) > 0) {
         std::vector<float> splats(m_splats.size());
@@ -51,6 +41,26 @@ void Film::reduce_to_root(World& world) {
     }
     uint64_t dropped = uint64_t(world.all_sum(int64_t(nonfinite_samples())));
     m_nonfinite.store(dropped, std::memory_order_relaxed);
+}
+
+std::vector<double> Film::sums() const {
+    std::vector<double> sums(m_pixels.size() * 4);
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const Pixel& p = m_pixels[i];
+        double* d = &sums[i * 4];
+        d[0] = p.rgb[0], d[1] = p.rgb[1], d[2] = p.rgb[2], d[3] = p.weight;
+    }
+    return sums;
+}
+
+void Film::set_sums(const std::vector<double>& sums, uint64_t nonfinite) {
+    ML_ASSERT(sums.size() == m_pixels.size() * 4, "film sums of another size");
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        Pixel& p = m_pixels[i];
+        const double* d = &sums[i * 4];
+        p.rgb[0] = d[0], p.rgb[1] = d[1], p.rgb[2] = d[2], p.weight = d[3];
+    }
+    m_nonfinite.store(nonfinite, std::memory_order_relaxed);
 }
 
 size_t Film::pixels_without_samples() const {

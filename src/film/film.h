@@ -36,6 +36,11 @@ public:
     // pixel only one rank sampled arrives exactly (the others add zeros). Parts no rank wrote
     // (the splats of a pixel integrator) are not sent. A collective: every rank calls it.
     void reduce_to_root(World& world);
+    // The weighted sums, 4 per pixel (r, g, b, weight), and back (with the dropped-sample
+    // count): the exact state a checkpoint keeps. Splats are not in it (integrators that splat
+    // keep their own sums until the end).
+    std::vector<double> sums() const;
+    void set_sums(const std::vector<double>& sums, uint64_t nonfinite);
     // Samples and splats dropped because a channel was NaN or infinite.
     uint64_t nonfinite_samples() const { return m_nonfinite.load(std::memory_order_relaxed); }
     // Pixels that no camera sample reached (a time limit that ended the first pass early).

@@ -1,6 +1,7 @@
 #include "integrators/render_job.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <sys/resource.h>
 
@@ -8,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <optional>
 
 #include "camera/camera.h"
@@ -16,6 +19,7 @@
 #include "film/film.h"
 #include "film/filter.h"
 #include "integrators/registry.h"
+#include "render/checkpoint.h"
 #include "scene/default_scene.h"
 #include "scene/scene.h"
 
@@ -57,6 +61,7 @@ struct RenderPlan {
     std::unique_ptr<Sampler> sampler;
     std::vector<std::string> warnings;
     std::string output_hint;
+    nlohmann::json fingerprint;  // what a checkpoint of this render must match
 };
 
 // The camera-to-world transform of RenderOptions::look_at: the scene's handedness (a
@@ -188,6 +193,25 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
         plan.max_depth =
             settings.has("maxdepth") ? settings.get_int("maxdepth", 5) : default_max_depth(*info);
 
+    if (!opt.checkpoint.empty() || !opt.resume.empty()) {
+        if (!integrator->can_checkpoint()) {
+            std::vector<std::string> can;
+            for (const IntegratorInfo& other : integrator_registry())
+                if (other.create(Settings(other.name, nullptr, {}))->can_checkpoint())
+                    can.push_back(other.name);
+            throw UsageError(fmt::format(
+                "--checkpoint/--resume: integrator \"{}\" with these settings cannot save its "
+                "state; these can: {}",
+                name, fmt::join(can, ", ")));
+        }
+        if (!(opt.checkpoint_every >= 0))
+            throw UsageError("--checkpoint-every: expected seconds >= 0");
+        nlohmann::json look_at = opt.look_at ? nlohmann::json(*opt.look_at) : nlohmann::json();
+        plan.fingerprint = {
+            {"scene", opt.scene_id},         {"integrator", name}, {"settings", overrides},
+            {"resolution", {width, height}}, {"seed", seed},       {"spp", spp},
+            {"sampler", sampler_name},       {"look_at", look_at}};
+    }
     plan.sampler = create_sampler(sampler_name, spp, seed);
     plan.width = width;
     plan.height = height;
@@ -256,10 +280,24 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
                       plan.spp, time_limit,   &progress,    plan.seed};
     ctx.cancel = opt.cancel;
     if (distributed) ctx.world = &world;
+    // A checkpoint to save to or resume from: a resumed render's film starts with the saved
+    // sums, and its time limit counts the time already spent.
+    std::optional<Checkpoint> checkpoint;
+    if (!opt.checkpoint.empty() || !opt.resume.empty()) {
+        checkpoint.emplace(opt.checkpoint, opt.checkpoint_every, opt.resume, plan.fingerprint, film,
+                           world);
+        ctx.checkpoint = &*checkpoint;
+        if (checkpoint->resuming()) {
+            fig.resumed_from = checkpoint->units();
+            ctx.start -= std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                std::chrono::duration<double>(checkpoint->seconds()));
+        }
+    }
     RenderResult result;
     stats::reset();
     auto t_render = std::chrono::steady_clock::now();
     result = plan.integrator->render(ctx);
+    if (checkpoint) fig.checkpoint_saves = checkpoint->saves();
     if (distributed) reduce_to_root(world, film, result, fig, seconds_since(t_render));
     fig.seconds_render = seconds_since(t_render);
     progress.done();
@@ -356,13 +394,23 @@ RenderOutput render_scene(SceneDesc desc, const RenderOptions& opt) {
 LoadedScene load_scene(const std::string& path) {
     auto t0 = std::chrono::steady_clock::now();
     LoadedScene loaded{path.empty() ? parse_scene_string(default_scene_text(), ".", "<cornell-box>")
-                                    : parse_scene_file(path)};
+                                    : parse_scene_file(path),
+                       0, ""};
     loaded.seconds_load = seconds_since(t0);
+    // The scene's identity for checkpoints: its file's text (what it includes is not hashed).
+    std::string text = default_scene_text();
+    if (!path.empty()) {
+        std::ifstream in(path, std::ios::binary);
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    loaded.id = fmt::format("{:016x}", fingerprint_hash(text));
     return loaded;
 }
 
 RenderOutput render_loaded_scene(LoadedScene scene, const RenderOptions& options) {
-    RenderOutput out = render_scene(std::move(scene.desc), options);
+    RenderOptions o = options;
+    if (o.scene_id.empty()) o.scene_id = scene.id;
+    RenderOutput out = render_scene(std::move(scene.desc), o);
     out.figures.seconds_load = scene.seconds_load;
     struct rusage usage {};
     if (getrusage(RUSAGE_SELF, &usage) == 0) out.figures.peak_rss_mb = usage.ru_maxrss / 1024.0;
@@ -410,6 +458,8 @@ nlohmann::json RenderFigures::to_json() const {
                     {"bytes_reduced_per_rank", bytes_reduced},
                     {"bytes_broadcast", bytes_broadcast}};
     if (bias_check) j["bias_check"] = bias_check->to_json();
+    if (checkpoint_saves > 0 || resumed_from >= 0)
+        j["checkpoint"] = {{"saves", checkpoint_saves}, {"resumed_from", resumed_from}};
     for (const auto& [key, value] : integrator_stats.items()) j[key] = value;
     return j;
 }

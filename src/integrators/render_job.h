@@ -52,6 +52,14 @@ struct RenderOptions {
     // (1 - share) of it and the check the rest; without one it runs after the render and leaves
     // the image as it is. Only rank 0 runs it (it holds the image).
     BiasCheckOptions bias_check;
+    // --checkpoint: save the render's state to this file every checkpoint_every seconds and at
+    // the end (or a stop); --resume: continue the render saved in this file (render/checkpoint.h).
+    // Both may name the same file. Only integrators that can (Integrator::can_checkpoint).
+    std::string checkpoint, resume;
+    double checkpoint_every = 60;
+    // What the scene is, for the checkpoint's fingerprint: load_scene's hash of the scene file
+    // (render_loaded_scene sets it); a checkpoint of another scene is refused.
+    std::string scene_id;
 };
 
 struct RenderFigures {
@@ -73,6 +81,10 @@ struct RenderFigures {
     std::vector<double> seconds_render_per_rank;
     double seconds_reduce = 0;
     uint64_t bytes_reduced = 0, bytes_broadcast = 0;
+    // Checkpoints: saves written, and the units (samples per pixel, mutations) a resumed render
+    // started from (-1: not resumed).
+    int checkpoint_saves = 0;
+    int64_t resumed_from = -1;
     // The bias check's figures, when it ran (its seconds are not in seconds_render; "total" in
     // --stats counts them).
     std::optional<BiasCheckResult> bias_check;
@@ -93,6 +105,7 @@ struct RenderOutput {
 struct LoadedScene {
     SceneDesc desc;
     double seconds_load = 0;
+    std::string id;  // a hash of the scene file's text (RenderOptions::scene_id)
 };
 LoadedScene load_scene(const std::string& path);
 

@@ -16,6 +16,7 @@
 #include "core/world.h"
 #include "film/film.h"
 #include "film/filter.h"
+#include "render/checkpoint.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
 
@@ -47,11 +48,15 @@ struct RenderContext {
     // end of a time limit.
     const std::atomic<bool>* cancel = nullptr;
 
+    bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+
     // True once a time limit is spent, or the render cancelled: loops stop starting work then.
-    bool out_of_time() const {
-        return (cancel && cancel->load(std::memory_order_relaxed)) ||
-               (time_limit > 0 && elapsed() >= time_limit);
-    }
+    bool out_of_time() const { return cancelled() || (time_limit > 0 && elapsed() >= time_limit); }
+
+    // Set (--checkpoint, --resume): the render saves its state at round boundaries and, when
+    // resuming, starts where the checkpoint left off (render/checkpoint.h). Only integrators
+    // whose can_checkpoint() is true are given one.
+    Checkpoint* checkpoint = nullptr;
 
     // The processes the render is split over (null: this one alone). Each rank renders the work
     // items it owns (tiles, chains: item % ranks == rank) into its own film; the render job sums
@@ -81,6 +86,8 @@ public:
     virtual ~Integrator() = default;
     virtual std::string name() const = 0;
     virtual RenderResult render(const RenderContext& ctx) = 0;
+    // Whether render() honours RenderContext::checkpoint (saves its state and resumes).
+    virtual bool can_checkpoint() const { return false; }
 };
 
 // The camera ray of one pixel sample, made as every pixel-sampling integrator makes it: a filter
@@ -95,6 +102,9 @@ Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
 class PixelIntegrator : public Integrator {
 public:
     RenderResult render(const RenderContext& ctx) override;
+    // The samples of a pixel depend on (pixel, sample index) alone, and a block's state on the
+    // seed and the block: a resumed render takes the samples it has not, as the first would.
+    bool can_checkpoint() const override { return true; }
     // Called once before rendering (after the scene is ready).
     virtual void prepare(const Scene& scene) {}
     // Called after prepare(), before the first sample (a pilot pass may run here).

@@ -46,10 +46,11 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
         }
     };
     const int64_t block = block_samples();
-    result.spp =
-        int(block > 0 ? render_pixel_blocks(
-                            ctx, ctx.spp, block, [&](int64_t b) { begin_block(ctx, b); }, shade)
-                      : render_pixels(ctx, ctx.spp, shade));
+    result.spp = int(block > 0 ? render_pixel_blocks(
+                                     ctx, ctx.spp, block, [&](int64_t b) { begin_block(ctx, b); },
+                                     shade, ctx.checkpoint)
+                               : render_pixels(ctx, ctx.spp, shade, ctx.checkpoint));
+    if (ctx.checkpoint) ctx.checkpoint->save(result.spp, ctx.elapsed());
     return result;
 }
 

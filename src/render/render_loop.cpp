@@ -13,7 +13,19 @@ namespace {
 
 constexpr int kPixelTile = 8;  // pixels on a side of the tiles render_pixels hands to threads
 
+using RowFn = std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>;
+
+// render_rows for units [first, first + units) of a longer loop (render_pixel_blocks' blocks):
+// fn sees units counted from `first`; a checkpoint's per-pixel units are absolute.
+int64_t render_rows_from(const RenderContext& ctx, int64_t first, int64_t units, const RowFn& fn,
+                         Checkpoint* checkpoint);
+
 }  // namespace
+
+bool cancelled_everywhere(const RenderContext& ctx) {
+    if (ctx.ranks() == 1) return ctx.cancelled();
+    return ctx.world->all_min(ctx.cancelled() ? 0 : 1) == 0;
+}
 
 int64_t next_round_size(int64_t last_units, double last_seconds, double elapsed, double time_limit,
                         int64_t most) {
@@ -33,9 +45,9 @@ void report_progress(const RenderContext& ctx, double work_fraction) {
 int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
                    const std::function<int64_t(int64_t done, int64_t units)>& round) {
     const bool timed = ctx.time_limit > 0;
-    int64_t done = 0;
+    int64_t done = plan.done;
     int64_t units = timed ? std::min(plan.first_timed, plan.most) : plan.most;
-    while (done < plan.total && units > 0) {
+    while (done < plan.total && units > 0 && !cancelled_everywhere(ctx)) {
         double round_start = ctx.elapsed();
         int64_t ran = round(done, units);
         ML_ASSERT(ran >= 0 && ran <= units, "a round ran more units than it was given");
@@ -45,6 +57,7 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
         if (ran == 0) break;
         done += ran;
         report_progress(ctx, double(done) / double(plan.total));
+        if (plan.after_round) plan.after_round(done);
         if (timed) {
             units = next_round_size(ran, ctx.elapsed() - round_start, ctx.elapsed(), ctx.time_limit,
                                     plan.most);
@@ -55,21 +68,31 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
 }
 
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
-                      const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn) {
-    return render_rows(ctx, units, [&](int y, int x0, int x1, int64_t u0, int64_t u1) {
-        for (int x = x0; x < x1; ++x) fn(Point2i{x, y}, u0, u1);
-    });
+                      const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn,
+                      Checkpoint* checkpoint) {
+    return render_rows(
+        ctx, units,
+        [&](int y, int x0, int x1, int64_t u0, int64_t u1) {
+            for (int x = x0; x < x1; ++x) fn(Point2i{x, y}, u0, u1);
+        },
+        checkpoint);
 }
 
 int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t block,
                             const std::function<void(int64_t b)>& begin_block,
-                            const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn) {
+                            const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn,
+                            Checkpoint* checkpoint) {
     ML_ASSERT(block > 0, "render_pixel_blocks needs blocks of at least one unit");
     const double start = ctx.elapsed();
-    int64_t done = 0;
-    for (int64_t b = 0; done < units; ++b) {
-        if (ctx.time_limit > 0 && done > 0) {
-            const double per_unit = (ctx.elapsed() - start) / double(done);
+    // A resumed render begins at the block its checkpoint stopped in.
+    const int64_t b0 = checkpoint && checkpoint->resuming()
+                           ? std::min(checkpoint->units(), units) / block
+                           : 0,
+                  done0 = b0 * block;
+    int64_t done = done0;
+    for (int64_t b = b0; done < units; ++b) {
+        if (ctx.time_limit > 0 && done > done0) {
+            const double per_unit = (ctx.elapsed() - start) / double(done - done0);
             int64_t go = per_unit <= kRoundTimeShare * (ctx.time_limit - ctx.elapsed()) ? 1 : 0;
             if (ctx.ranks() > 1) go = ctx.world->all_min(go);
             if (!go) break;
@@ -80,9 +103,12 @@ int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t blo
         if (ctx.progress && !(ctx.time_limit > 0))
             ctx.progress->set_span(double(first) / double(units),
                                    double(first + n) / double(units));
-        const int64_t ran = render_pixels(ctx, n, [&](Point2i pixel, int64_t u0, int64_t u1) {
-            fn(pixel, first + u0, first + u1);
-        });
+        const int64_t ran = render_rows_from(
+            ctx, first, n,
+            [&](int y, int x0, int x1, int64_t u0, int64_t u1) {
+                for (int x = x0; x < x1; ++x) fn(Point2i{x, y}, first + u0, first + u1);
+            },
+            checkpoint);
         done += ran;
         if (ran < n) break;
     }
@@ -90,8 +116,15 @@ int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t blo
     return done;
 }
 
-int64_t render_rows(const RenderContext& ctx, int64_t units,
-                    const std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>& fn) {
+int64_t render_rows(const RenderContext& ctx, int64_t units, const RowFn& fn,
+                    Checkpoint* checkpoint) {
+    return render_rows_from(ctx, 0, units, fn, checkpoint);
+}
+
+namespace {
+
+int64_t render_rows_from(const RenderContext& ctx, int64_t first, int64_t units, const RowFn& fn,
+                         Checkpoint* checkpoint) {
     const int w = ctx.film.width(), h = ctx.film.height();
     // Across ranks each takes the tiles it owns (tile index % ranks == rank): every pixel is
     // rendered by one rank, as by one process, and the films add up exactly.
@@ -114,6 +147,16 @@ int64_t render_rows(const RenderContext& ctx, int64_t units,
     const double total_rows = double(owned_pixels) / double(w) * double(units);
     RoundPlan plan;
     plan.total = units;
+    if (checkpoint) {
+        // Rounds of one unit, each offered to the checkpoint; a resumed render starts where the
+        // checkpoint's round did (pixels a stop left ahead skip what they have done, below).
+        plan.most = 1;
+        if (checkpoint->resuming())
+            plan.done = std::clamp<int64_t>(checkpoint->units() - first, 0, units);
+        plan.after_round = [&](int64_t done) {
+            checkpoint->round_done(first + done, ctx.elapsed());
+        };
+    }
     return run_rounds(ctx, plan, [&](int64_t u0, int64_t want) {
         const int64_t n = std::min(want, units - u0), u1 = u0 + n;
         std::atomic<bool> cut_short{false};
@@ -124,7 +167,16 @@ int64_t render_rows(const RenderContext& ctx, int64_t units,
                     cut_short = true;
                     return;
                 }
-                fn(y, x0, x1, u0, u1);
+                if (checkpoint) {
+                    // The row's pixels are done together: the first says how far they are.
+                    const size_t p0 = size_t(y) * size_t(w) + size_t(x0);
+                    const int64_t from = std::max(u0, checkpoint->pixel_units(p0) - first);
+                    if (from < u1) fn(y, x0, x1, from, u1);
+                    for (int x = x0; x < x1; ++x)
+                        checkpoint->set_pixel_units(p0 + size_t(x - x0), first + u1);
+                } else {
+                    fn(y, x0, x1, u0, u1);
+                }
                 if (ctx.progress) {
                     int64_t rows = n * (x1 - x0) / w;
                     report_progress(ctx, double(rows_done.fetch_add(rows) + rows) / total_rows);
@@ -141,5 +193,7 @@ int64_t render_rows(const RenderContext& ctx, int64_t units,
         return cut_short ? int64_t(0) : n;
     });
 }
+
+}  // namespace
 
 }  // namespace ml

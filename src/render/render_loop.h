@@ -39,16 +39,21 @@ int64_t next_round_size(int64_t last_units, double last_seconds, double elapsed,
 
 struct RoundPlan {
     int64_t total = 0;        // units in all (the sample or mutation budget)
+    int64_t done = 0;         // units already done (a render resumed from a checkpoint)
     int64_t first_timed = 1;  // units of the first round under a time limit: a cheap measure
     int64_t most = std::numeric_limits<int64_t>::max();  // no round is larger
+    // Called after every round that counted with the units done so far (on every rank): where
+    // a checkpoint is offered a save.
+    std::function<void(int64_t done)> after_round;
 };
 
-// Runs rounds until `plan.total` units are done: round(done, units) runs up to `units` more units
-// (the caller clips them to what is left) and returns how many it ran; 0 (nothing left to run,
-// or a round cut short by the time limit, which then does not count) ends the loop. Without a
-// time limit, rounds of plan.most units (the whole budget by default); under one, a first round
-// of plan.first_timed units, then each as next_round_size says, timed from the render's start
-// (RenderContext::elapsed). Reports progress after each round. Returns the units done.
+// Runs rounds from `plan.done` until `plan.total` units are done: round(done, units) runs up to
+// `units` more units (the caller clips them to what is left) and returns how many it ran; 0
+// (nothing left to run, or a round cut short by the time limit, which then does not count) ends the
+// loop. Without a time limit, rounds of plan.most units (the whole budget by default); under one, a
+// first round of plan.first_timed units, then each as next_round_size says, timed from the render's
+// start (RenderContext::elapsed). Reports progress after each round. A cancelled render starts no
+// round. Returns the units done (plan.done included).
 // Across ranks, round() must return the same count on every rank (a sum over the ranks where
 // each runs a share), or 0 where it was cut short: run_rounds takes the least over the ranks,
 // and the least next round size, so that every rank runs the same rounds.
@@ -64,24 +69,34 @@ void report_progress(const RenderContext& ctx, double work_fraction);
 // Past the time limit no tile or row of a tile starts, even within a round: the contract is the
 // time; the round then does not count (the film's weights keep the pixels' means right).
 // Across ranks each renders the 8x8 tiles it owns (tile % ranks == rank). Returns the units done.
+// With a checkpoint (a render that saves or resumes its state), rounds are of one unit, each
+// pixel starts past the units the checkpoint says it has done, and every round ends with an
+// offer to save (Checkpoint::round_done).
 int64_t render_pixels(const RenderContext& ctx, int64_t units,
-                      const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
+                      const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn,
+                      Checkpoint* checkpoint = nullptr);
 
 // render_pixels in blocks of `block` units, each begun by begin_block(b) (b = 0, 1, ...) once
 // the last block has ended on every pixel: for integrators that shade each block with state of
 // its own (a new VPL set for every pass of samples). Under a time limit a block after the first
 // begins only where the mean time of a unit so far (begin_block's included) fits
 // kRoundTimeShare of the time left; a block the limit cuts short ends the loop. Returns the
-// units done.
+// units done. With a checkpoint, a resumed render begins at the block the checkpoint stopped in
+// (begin_block(b) must make the same state whenever it is called: from the seed and b).
 int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t block,
                             const std::function<void(int64_t b)>& begin_block,
-                            const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn);
+                            const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn,
+                            Checkpoint* checkpoint = nullptr);
 
 // The same loop a row of a tile at a time: fn(y, x0, x1, u0, u1) runs units [u0, u1) of the
 // pixels x0 <= x < x1 of row y (at most 8 of them), in an order of its choosing, for integrators
 // that shade neighbouring pixels together (igi: one shadow-ray packet per light for the row).
 // render_pixels is this with the pixels one after the other.
 int64_t render_rows(const RenderContext& ctx, int64_t units,
-                    const std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>& fn);
+                    const std::function<void(int y, int x0, int x1, int64_t u0, int64_t u1)>& fn,
+                    Checkpoint* checkpoint = nullptr);
+
+// Whether the render stops now, the same answer on every rank (one that is cancelled stops all).
+bool cancelled_everywhere(const RenderContext& ctx);
 
 }  // namespace ml

@@ -16,6 +16,8 @@ namespace ml {
 class SplatIntegrator : public Integrator {
 public:
     RenderResult render(const RenderContext& ctx) final;
+    // Saves the splat sums and the tiles' progress; a resumed render adds to them.
+    bool can_checkpoint() const override { return true; }
 
 protected:
     // Called once before rendering.

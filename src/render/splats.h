@@ -95,6 +95,14 @@ public:
                 if (!v.is_black()) film.add_splat(Vec2(float(x) + 0.5f, float(y) + 0.5f), v);
             }
     }
+    // The sums of image `image` (-1: the rendered one), 3 per pixel, and back: the exact state a
+    // checkpoint keeps.
+    const std::vector<double>& sums(int image) const { return m_sums[size_t(image + 1)]; }
+    void set_sums(int image, std::vector<double> sums) {
+        ML_ASSERT(sums.size() == m_sums[size_t(image + 1)].size(), "splat sums of another size");
+        m_sums[size_t(image + 1)] = std::move(sums);
+    }
+    int images() const { return int(m_sums.size()); }
     // Extra image `image` times `scale`.
     Image image(int image, double scale) const {
         Image img(m_width, m_height);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 
 #include "core/error.h"
 
@@ -127,6 +129,59 @@ void MltSampler::ensure_ready(size_t i) {
         x.value = std::min(float(v), kOneMinusEpsilon);
     }
     x.last_modified = m_iteration;
+}
+
+// Rng keeps its two words private; it is trivially copyable, so its bytes are its state.
+static_assert(std::is_trivially_copyable_v<Rng> && sizeof(Rng) == 2 * sizeof(uint64_t));
+
+std::array<uint64_t, 2> rng_state(const Rng& rng) {
+    std::array<uint64_t, 2> s;
+    std::memcpy(s.data(), &rng, sizeof rng);
+    return s;
+}
+
+void set_rng_state(Rng& rng, const std::array<uint64_t, 2>& state) {
+    std::memcpy(static_cast<void*>(&rng), state.data(), sizeof rng);
+}
+
+nlohmann::json MltSampler::state() const {
+    std::vector<float> value, backup;
+    std::vector<int64_t> modified, modified_backup;
+    for (const PrimarySample& x : m_x) {
+        value.push_back(x.value);
+        backup.push_back(x.value_backup);
+        modified.push_back(x.last_modified);
+        modified_backup.push_back(x.modified_backup);
+    }
+    return {{"rng", rng_state(m_rng)},
+            {"value", value},
+            {"value_backup", backup},
+            {"modified", modified},
+            {"modified_backup", modified_backup},
+            {"iteration", m_iteration},
+            {"last_large_step", m_last_large_step},
+            {"large_step", m_large_step},
+            {"stream", m_stream},
+            {"stream_sample", m_stream_sample}};
+}
+
+void MltSampler::restore(const nlohmann::json& j) {
+    set_rng_state(m_rng, j.at("rng").get<std::array<uint64_t, 2>>());
+    auto value = j.at("value").get<std::vector<float>>();
+    auto backup = j.at("value_backup").get<std::vector<float>>();
+    auto modified = j.at("modified").get<std::vector<int64_t>>();
+    auto modified_backup = j.at("modified_backup").get<std::vector<int64_t>>();
+    if (backup.size() != value.size() || modified.size() != value.size() ||
+        modified_backup.size() != value.size())
+        throw Error("checkpoint: a Metropolis sampler's arrays differ in size");
+    m_x.resize(value.size());
+    for (size_t i = 0; i < m_x.size(); ++i)
+        m_x[i] = PrimarySample{value[i], backup[i], modified[i], modified_backup[i]};
+    m_iteration = j.at("iteration").get<int64_t>();
+    m_last_large_step = j.at("last_large_step").get<int64_t>();
+    m_large_step = j.at("large_step").get<bool>();
+    m_stream = j.at("stream").get<int>();
+    m_stream_sample = j.at("stream_sample").get<int64_t>();
 }
 
 }  // namespace ml

@@ -13,6 +13,9 @@
 // one untouched since a large step is redrawn when read.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +26,10 @@ namespace ml {
 
 // The standard normal quantile: the x with Phi(x) = u, for u in (0, 1) (clamped into it).
 double standard_normal_quantile(double u);
+
+// A generator's whole state as two words and back, to save and restore it exactly (checkpoints).
+std::array<uint64_t, 2> rng_state(const Rng& rng);
+void set_rng_state(Rng& rng, const std::array<uint64_t, 2>& state);
 
 class MltSampler final : public Sampler {
 public:
@@ -55,6 +62,11 @@ public:
     size_t dimension_count() const { return m_x.size(); }
     float value(size_t i) const { return m_x[i].value; }
     int64_t iteration() const { return m_iteration; }
+
+    // The chain's whole state (numbers, backups, iteration), to continue exactly elsewhere
+    // (checkpoints); restore() takes what state() gave a sampler made with the same parameters.
+    nlohmann::json state() const;
+    void restore(const nlohmann::json& state);
 
 private:
     struct PrimarySample {

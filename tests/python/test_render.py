@@ -234,6 +234,26 @@ def test_ctrl_c_interrupts_a_render(scene):
     assert stats["spp"] == 1 and image.mean() > 0
 
 
+def test_a_cancelled_render_resumes_from_its_checkpoint(tmp_path):
+    """Cancelled part way with a checkpoint, then resumed: the uninterrupted image, bit for bit."""
+    ckpt = tmp_path / "state.ckpt"
+    args = dict(integrator="path", spp=2000, resolution=(24, 16), seed=3, threads=1)
+
+    def stop(fraction):
+        if fraction >= 0.3:
+            raise Stop
+
+    with pytest.raises(Stop):
+        manylight.render(checkpoint=ckpt, progress=stop, **args)
+    assert ckpt.exists()
+    resumed, stats = manylight.render(resume=ckpt, **args)
+    assert 0 <= stats["checkpoint"]["resumed_from"] < 2000
+    full, _ = manylight.render(**args)
+    assert np.array_equal(full, resumed)
+    with pytest.raises(manylight.UsageError, match="spp is 2000 there, 2001 here"):
+        manylight.render(resume=ckpt, **dict(args, spp=2001))
+
+
 def test_read_and_write_image(tmp_path, scene):
     image, _ = manylight.render(scene, spp=1, resolution=(10, 6))
     manylight.write_image(tmp_path / "x.pfm", image)

@@ -46,6 +46,8 @@ public:
     RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
            Point2i pixel) const override;
     RenderResult render(const RenderContext& ctx) override;
+    // Not with reconstruction (its passes shade pixels in an order of their own).
+    bool can_checkpoint() const override { return m_reconstruct <= 1; }
     // vpl.sets=pass: a new VPL set every kPixelPassSamples samples (many_lights.h).
     int64_t block_samples() const override {
         return m_settings.set_per_pass ? kPixelPassSamples : 0;

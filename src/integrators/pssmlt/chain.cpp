@@ -61,4 +61,32 @@ void MarkovChain::run(int64_t n, SplatList& out, ScratchBuffer& scratch) {
     }
 }
 
+nlohmann::json MarkovChain::state() const {
+    return {{"rng", rng_state(m_rng)},
+            {"start", m_start},
+            {"depth", m_depth},
+            {"sampler", m_sampler.state()},
+            {"started", m_started},
+            {"L", {m_current.L.r, m_current.L.g, m_current.L.b}},
+            {"p", {m_current.p_raster.x, m_current.p_raster.y}},
+            {"importance", m_current_importance},
+            {"proposed", m_proposed},
+            {"accepted", m_accepted}};
+}
+
+void MarkovChain::restore(const nlohmann::json& j) {
+    set_rng_state(m_rng, j.at("rng").get<std::array<uint64_t, 2>>());
+    m_start = j.at("start").get<uint64_t>();
+    m_depth = j.at("depth").get<int>();
+    m_sampler.restore(j.at("sampler"));
+    m_started = j.at("started").get<bool>();
+    auto L = j.at("L").get<std::array<float, 3>>();
+    auto p = j.at("p").get<std::array<float, 2>>();
+    m_current.L = RGB(L[0], L[1], L[2]);
+    m_current.p_raster = Vec2(p[0], p[1]);
+    m_current_importance = j.at("importance").get<float>();
+    m_proposed = j.at("proposed").get<int64_t>();
+    m_accepted = j.at("accepted").get<int64_t>();
+}
+
 }  // namespace ml

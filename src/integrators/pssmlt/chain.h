@@ -25,6 +25,10 @@ public:
     int64_t proposed() const { return m_proposed; }
     int64_t accepted() const { return m_accepted; }
     int depth() const { return m_depth; }
+    // The chain's whole state, to continue exactly (checkpoints); restore() takes what state()
+    // gave the same chain (same index, count and parameters).
+    nlohmann::json state() const;
+    void restore(const nlohmann::json& state);
 
 private:
     void splat(const PrimaryPathSample& s, float weight, SplatList& out) const;

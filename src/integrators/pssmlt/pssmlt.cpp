@@ -62,15 +62,25 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
             return ctx.world_or_local().root_decides(ctx.elapsed() >
                                                      kBootstrapTimeShare * ctx.time_limit);
         };
+    // A resumed render restores its chains and b from the checkpoint: its bootstrap is only
+    // what the chains are made from before that, so it is the least one (a first chunk).
+    Checkpoint* checkpoint = ctx.checkpoint;
+    const nlohmann::json* saved =
+        checkpoint && checkpoint->resuming() ? &checkpoint->integrator_state() : nullptr;
+    if (saved) bootstrap_stop = [] { return true; };
     Bootstrap bootstrap(*estimator, params, m_bootstrap, bootstrap_stop);
     double seconds_bootstrap = ctx.elapsed();
+    const double b = saved ? saved->at("b").get<double>() : bootstrap.b();
+    const double b_stderr = saved ? saved->at("b_stderr").get<double>() : bootstrap.b_stderr();
+    const int bootstrap_paths =
+        saved ? saved->at("bootstrap").get<int>() : bootstrap.paths_per_stratum();
     RenderResult result;
     auto stats_json = [&](int64_t mutations, int64_t accepted, int64_t chains) {
         return nlohmann::json{
             {"estimator", m_estimator},
-            {"b", bootstrap.b()},
-            {"b_stderr", bootstrap.b_stderr()},
-            {"bootstrap", bootstrap.paths_per_stratum()},
+            {"b", b},
+            {"b_stderr", b_stderr},
+            {"bootstrap", bootstrap_paths},
             {"chains", chains},
             {"mutations", mutations},
             {"mutations_per_pixel", double(mutations) / double(pixels)},
@@ -79,7 +89,7 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
             {"sigma", params.sigma},
             {"seconds_bootstrap", seconds_bootstrap}};
     };
-    if (!(bootstrap.b() > 0)) {
+    if (!(b > 0)) {
         // No path carries light: the image is black, whatever the budget.
         result.spp = timed ? 0 : ctx.spp;
         result.stats["pssmlt"] = stats_json(0, 0, 0);
@@ -110,6 +120,34 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
     plan.most = std::max<int64_t>(1, kMaxSegmentMutations / n_chains) * n_chains;
     plan.first_timed = std::max<int64_t>(1, kFirstTimedSegmentMutations / n_chains) * n_chains;
     std::vector<int64_t> ran(size_t(n_chains), 0);
+    if (checkpoint) {
+        // The chains' states, their budgets left and the splat sums: a resumed render goes on
+        // exactly as the first would have. Segments of at most 1/16 of the budget, so that a
+        // save or a stop comes between them.
+        if (saved) {
+            const nlohmann::json& states = saved->at("chains");
+            if (states.size() != chains.size())
+                throw UsageError("--resume: the checkpoint holds another number of chains");
+            for (size_t k = 0; k < chains.size(); ++k)
+                if (!states[k].is_null()) chains[k].restore(states[k]);
+            remaining = from_binary<int64_t>(saved->at("remaining"), size_t(n_chains));
+            sums.set_sums(-1, from_binary<double>(saved->at("sums"), size_t(pixels) * 3));
+            plan.done = std::min(checkpoint->units(), total);
+        }
+        checkpoint->set_state([&] {
+            nlohmann::json states = nlohmann::json::array();
+            for (int64_t i = 0; i < n_chains; ++i)
+                states.push_back(ctx.owns(i) ? chains[size_t(i)].state() : nlohmann::json());
+            return nlohmann::json{{"b", b},
+                                  {"b_stderr", b_stderr},
+                                  {"bootstrap", bootstrap_paths},
+                                  {"chains", states},
+                                  {"remaining", to_binary(remaining)},
+                                  {"sums", to_binary(sums.sums(-1))}};
+        });
+        plan.most = std::min(plan.most, std::max<int64_t>(1, total / 16 / n_chains) * n_chains);
+        plan.after_round = [&](int64_t done) { checkpoint->round_done(done, ctx.elapsed()); };
+    }
     const int64_t done = run_rounds(ctx, plan, [&](int64_t, int64_t units) {
         const int64_t per_chain = units / n_chains;
         if (per_chain < 1) return int64_t(0);
@@ -126,9 +164,11 @@ RenderResult PssmltIntegrator::render(const RenderContext& ctx) {
         return segment;
     });
 
+    if (checkpoint) checkpoint->save(done, ctx.elapsed());
+
     // 4. The image: each mutation splatted a total importance of 1, so b * pixels / done
     //    scales the splats to mean luminance b. Added once per pixel, from one thread.
-    sums.add_to_film(ctx.film, bootstrap.b() * double(pixels) / double(done));
+    if (done > 0) sums.add_to_film(ctx.film, b * double(pixels) / double(done));
     int64_t accepted = 0;
     for (const MarkovChain& c : chains) accepted += c.accepted();
     if (ctx.ranks() > 1) accepted = ctx.world->all_sum(accepted);

@@ -20,6 +20,8 @@ public:
     explicit PssmltIntegrator(const Settings& settings);
     std::string name() const override { return "pssmlt"; }
     RenderResult render(const RenderContext& ctx) override;
+    // Saves the chains' states and the splat sums: a resumed render goes on exactly.
+    bool can_checkpoint() const override { return true; }
 
 private:
     int m_max_depth;
