@@ -226,4 +226,10 @@ TEST_F(Checkpoints, AnIntegratorThatCannotSaveItsStateIsRefused) {
         EXPECT_NE(std::string(e.what()).find("pssmlt"), std::string::npos) << e.what();
     }
     EXPECT_FALSE(fs::exists(o.checkpoint));
+    // A guided path tracer's state is its guide, which a checkpoint does not hold.
+    ml::RenderOptions g = options("path", 2);
+    g.set["path.guiding"] = "on";
+    g.checkpoint = path("g.ckpt");
+    EXPECT_THROW(render(g), ml::UsageError);
+    EXPECT_FALSE(fs::exists(g.checkpoint));
 }

@@ -140,6 +140,35 @@ TEST_F(Interrupt, AStoppedRenderResumesToTheSameImage) {
     EXPECT_GT(ml::test::lit_channels(a), 0u);
 }
 
+// Without a checkpoint and with a budget of a million samples per pixel, a pixel integrator
+// (path) and a splat integrator (lighttracer) stop within moments of the signal, and every pixel
+// of the partial image has samples: the rounds grow to 64 samples per pixel, not to the whole
+// budget, so no round keeps the stop waiting and no part of the frame is left black.
+TEST_F(Interrupt, AStopKeepsTheWholeFrameWithoutACheckpoint) {
+    const std::string scene = path("glow.pbrt");
+    std::ofstream(scene) << ml::test::furnace_scene(0.f, 0.5f, 16);
+    for (const char* integrator : {"path", "lighttracer"}) {
+        const std::string out = path(std::string(integrator) + ".pfm");
+        Child c =
+            run_and_signal({"render", scene, "-q", "--threads", "2", "--integrator", integrator,
+                            "--spp", "1000000", "--resolution", "32x24", "-o", out},
+                           {{1.0, SIGINT}}, path("err.txt"));
+        EXPECT_EQ(c.code, 130) << integrator << ": " << c.err;
+        EXPECT_LT(c.seconds, 10) << integrator << ": the stop waited for a long round";
+        ASSERT_TRUE(fs::exists(out)) << integrator;
+        ml::Image img = ml::read_image(out);
+        double sum = 0;
+        size_t dark = 0;
+        for (const ml::RGB& p : img.pixels) {
+            dark += p[1] == 0.f;
+            sum += p[1];
+        }
+        EXPECT_EQ(dark, 0u) << integrator << ": pixels without samples";
+        // Each sample of path is 0.5; the light tracer's splats average 0.5 over the frame.
+        EXPECT_NEAR(sum / double(img.pixels.size()), 0.5, 0.05) << integrator;
+    }
+}
+
 // The second signal does not wait for the tile: the process ends at once, with 130.
 TEST_F(Interrupt, ASecondSignalExitsAtOnce) {
     Child c = run_and_signal({"render", "-q", "--threads", "1", "--integrator", "path", "--spp",

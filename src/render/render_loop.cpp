@@ -46,7 +46,10 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
                    const std::function<int64_t(int64_t done, int64_t units)>& round) {
     const bool timed = ctx.time_limit > 0;
     int64_t done = plan.done;
-    int64_t units = timed ? std::min(plan.first_timed, plan.most) : plan.most;
+    const bool growing = !timed && plan.untimed_most > 0;
+    int64_t units = timed     ? std::min(plan.first_timed, plan.most)
+                    : growing ? std::min<int64_t>(1, plan.most)
+                              : plan.most;
     while (done < plan.total && units > 0 && !cancelled_everywhere(ctx)) {
         double round_start = ctx.elapsed();
         int64_t ran = round(done, units);
@@ -58,6 +61,7 @@ int64_t run_rounds(const RenderContext& ctx, const RoundPlan& plan,
         done += ran;
         report_progress(ctx, double(done) / double(plan.total));
         if (plan.after_round) plan.after_round(done);
+        if (growing) units = std::min({2 * units, plan.untimed_most, plan.most});
         if (timed) {
             units = next_round_size(ran, ctx.elapsed() - round_start, ctx.elapsed(), ctx.time_limit,
                                     plan.most);
@@ -147,6 +151,7 @@ int64_t render_rows_from(const RenderContext& ctx, int64_t first, int64_t units,
     const double total_rows = double(owned_pixels) / double(w) * double(units);
     RoundPlan plan;
     plan.total = units;
+    plan.untimed_most = kUntimedRoundSamples;
     if (checkpoint) {
         // Rounds of one unit, each offered to the checkpoint; a resumed render starts where the
         // checkpoint's round did (pixels a stop left ahead skip what they have done, below).

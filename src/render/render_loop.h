@@ -30,6 +30,9 @@ constexpr double kMaxRoundGrowth = 4.0;
 // The least cost per unit a round is assumed to have (seconds): a round too fast to measure
 // does not make the next one infinite.
 constexpr double kMinSecondsPerUnit = 1e-9;
+// Without a time limit, the largest round of samples per pixel (RoundPlan::untimed_most) that
+// pixel and splat integrators run.
+constexpr int64_t kUntimedRoundSamples = 64;
 
 // Under a time limit, how many units (samples, passes, mutations) the next round may take: what
 // fills kRoundTimeShare of the time left at the last round's cost per unit, at most
@@ -42,6 +45,10 @@ struct RoundPlan {
     int64_t done = 0;         // units already done (a render resumed from a checkpoint)
     int64_t first_timed = 1;  // units of the first round under a time limit: a cheap measure
     int64_t most = std::numeric_limits<int64_t>::max();  // no round is larger
+    // Without a time limit, rounds of 1, 2, 4... units up to this many, as pbrt-v4's waves: every
+    // pixel has samples early, so a stop (Ctrl-C) keeps an image of the whole frame and waits for
+    // no long round. 0: one round of the whole budget (at most `most`).
+    int64_t untimed_most = 0;
     // Called after every round that counted with the units done so far (on every rank): where
     // a checkpoint is offered a save.
     std::function<void(int64_t done)> after_round;
@@ -50,7 +57,8 @@ struct RoundPlan {
 // Runs rounds from `plan.done` until `plan.total` units are done: round(done, units) runs up to
 // `units` more units (the caller clips them to what is left) and returns how many it ran; 0
 // (nothing left to run, or a round cut short by the time limit, which then does not count) ends the
-// loop. Without a time limit, rounds of plan.most units (the whole budget by default); under one, a
+// loop. Without a time limit, rounds of plan.most units (the whole budget by default), or growing
+// to plan.untimed_most when that is set; under one, a
 // first round of plan.first_timed units, then each as next_round_size says, timed from the render's
 // start (RenderContext::elapsed). Reports progress after each round. A cancelled render starts no
 // round. Returns the units done (plan.done included).

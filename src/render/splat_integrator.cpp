@@ -38,6 +38,7 @@ RenderResult SplatIntegrator::render(const RenderContext& ctx) {
     Checkpoint* checkpoint = ctx.checkpoint;
     RoundPlan plan;
     plan.total = ctx.spp;
+    plan.untimed_most = kUntimedRoundSamples;
     if (checkpoint) {
         if (checkpoint->resuming()) {
             const nlohmann::json& state = checkpoint->integrator_state();

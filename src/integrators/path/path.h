@@ -16,6 +16,8 @@ public:
     explicit PathIntegrator(const Settings& settings);
     std::string name() const override { return "path"; }
     RenderResult render(const RenderContext& ctx) override;
+    // A guided render's state is its guide, which a checkpoint does not hold.
+    bool can_checkpoint() const override { return !m_guiding; }
     void prepare(const Scene& scene) override;
     RGB li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
            Point2i pixel) const override;
