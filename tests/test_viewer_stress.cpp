@@ -268,7 +268,7 @@ public:
     Pages(int port, int count) : m_deadline(m_ioc) {
         for (int i = 0; i < count; ++i) pages.push_back(std::make_shared<Page>(m_ioc, i, *this));
         for (auto& p : pages) p->start(port);
-        m_deadline.expires_after(std::chrono::duration<double>(kDeadlineSeconds));
+        m_deadline.expires_after(std::chrono::seconds(int(kDeadlineSeconds)));
         m_deadline.async_wait([this](beast::error_code ec) {
             if (ec) return;
             for (auto& p : pages)
@@ -473,8 +473,9 @@ protected:
 TEST_F(ViewerStress, PagesConnectingWhileLoadingOnABusyMachineGetTheSceneInEveryFrame) {
     const char* other = std::getenv("MANYLIGHT_VIEW_STRESS_SCENE");
     const std::string scene = other ? std::string(other) : write_scene(stress_scene());
-    if (const char* size = std::getenv("MANYLIGHT_VIEW_STRESS_RESOLUTION"))
+    if (const char* size = std::getenv("MANYLIGHT_VIEW_STRESS_RESOLUTION")) {
         ASSERT_EQ(std::sscanf(size, "%dx%d", &g_width, &g_height), 2);
+    }
     std::vector<std::shared_ptr<Page>> keep;
     {
         BusyMachine busy;
@@ -502,7 +503,9 @@ TEST_F(ViewerStress, PagesConnectingWhileLoadingOnABusyMachineGetTheSceneInEvery
         ASSERT_GE(page->kinds.size(), 2u);
         EXPECT_EQ(page->kinds[0], "loading");
         size_t hello = page->index() == 0 ? 2 : 1;
-        if (page->index() == 0) EXPECT_EQ(page->kinds[1], "error");
+        if (page->index() == 0) {
+            EXPECT_EQ(page->kinds[1], "error");
+        }
         ASSERT_GT(page->kinds.size(), hello);
         EXPECT_EQ(page->kinds[hello], "hello");
         ASSERT_TRUE(page->home);

@@ -23,14 +23,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct Outcome {
     int code = -1;
     std::string output;
 };
 
-Run run(const std::string& env, const std::string& args) {
+Outcome run_program(const std::string& env, const std::string& args) {
     std::string cmd = env + " " + std::string(MANYLIGHT_BINARY) + " " + args + " 2>&1";
-    Run r;
+    Outcome r;
     FILE* p = popen(cmd.c_str(), "r");
     char buf[4096];
     size_t n;
@@ -54,10 +54,10 @@ WorldBegin
     }
     void TearDown() override { fs::remove_all(m_dir); }
     // A 1 spp render of the box with `vpls` VPLs and `mb` MB available; its --stats in *stats.
-    Run render(int64_t vpls, int mb, nlohmann::json* stats = nullptr) {
+    Outcome render(int64_t vpls, int mb, nlohmann::json* stats = nullptr) {
         std::string json = (m_dir / "stats.json").string();
         fs::remove(json);
-        Run r = run(fmt::format("MANYLIGHT_TEST_AVAILABLE_MB={}", mb),
+        Outcome r = run_program(fmt::format("MANYLIGHT_TEST_AVAILABLE_MB={}", mb),
                     fmt::format("render {} --integrator {} --spp 1 --threads 2 --set vpl.count={} "
                                 "-q -o {} --stats {}",
                                 m_scene, GetParam(), vpls, (m_dir / "out.exr").string(), json));
@@ -72,7 +72,7 @@ WorldBegin
 // names the count that fits; that count renders.
 TEST_P(VplMemory, ACountThatDoesNotFitStopsEarlySayingHowManyFit) {
     constexpr int kMb = 48;
-    Run big = render(10'000'000, kMb);
+    Outcome big = render(10'000'000, kMb);
     EXPECT_EQ(big.code, 2) << big.output;
     EXPECT_FALSE(fs::exists(m_dir / "out.exr"));
     EXPECT_NE(big.output.find("vpl.count=10000000 needs about"), std::string::npos) << big.output;
@@ -84,9 +84,9 @@ TEST_P(VplMemory, ACountThatDoesNotFitStopsEarlySayingHowManyFit) {
     const double per_vpl = double(point_light_peak_bytes(kLightTreeReps));
     EXPECT_NEAR(double(fit), kMemoryShare * double(int64_t(kMb) << 20) / per_vpl, 1.0);
     ASSERT_GT(fit, 1000);
-    Run ok = render(fit, kMb);
+    Outcome ok = render(fit, kMb);
     EXPECT_EQ(ok.code, 0) << ok.output;
-    Run over = render(fit * 11 / 10, kMb);
+    Outcome over = render(fit * 11 / 10, kMb);
     EXPECT_EQ(over.code, 2) << over.output;
 }
 
