@@ -57,10 +57,11 @@ WorldBegin
     Outcome render(int64_t vpls, int mb, nlohmann::json* stats = nullptr) {
         std::string json = (m_dir / "stats.json").string();
         fs::remove(json);
-        Outcome r = run_program(fmt::format("MANYLIGHT_TEST_AVAILABLE_MB={}", mb),
-                    fmt::format("render {} --integrator {} --spp 1 --threads 2 --set vpl.count={} "
-                                "-q -o {} --stats {}",
-                                m_scene, GetParam(), vpls, (m_dir / "out.exr").string(), json));
+        Outcome r = run_program(
+            fmt::format("MANYLIGHT_TEST_AVAILABLE_MB={}", mb),
+            fmt::format("render {} --integrator {} --spp 1 --threads 2 --set vpl.count={} "
+                        "-q -o {} --stats {}",
+                        m_scene, GetParam(), vpls, (m_dir / "out.exr").string(), json));
         if (stats && r.code == 0) *stats = nlohmann::json::parse(std::ifstream(json));
         return r;
     }
