@@ -315,13 +315,6 @@ void serve_viewer(const ViewLoader& load, const ViewServerOptions& opt) {
     hub.loading = text_message({{"type", "loading"}, {"scene", opt.scene}});
     accept(acceptor, hub);
 
-    const tcp::endpoint bound = acceptor.local_endpoint();
-    std::string host = bound.address().is_v6() ? "[" + bound.address().to_string() + "]"
-                                               : bound.address().to_string();
-    std::printf("manylight view: open http://%s:%d/ (Ctrl-C stops)\n", host.c_str(),
-                int(bound.port()));
-    std::fflush(stdout);
-
     // The loader thread builds the renderer, then runs its loop; the I/O thread (this one)
     // serves the pages meanwhile. `state` is shared by both.
     struct {
@@ -354,6 +347,14 @@ void serve_viewer(const ViewLoader& load, const ViewServerOptions& opt) {
             if (!e) shutdown();
         });
     }
+
+    // The address once Ctrl-C is handled: a stop right after it is a clean one.
+    const tcp::endpoint bound = acceptor.local_endpoint();
+    std::string host = bound.address().is_v6() ? "[" + bound.address().to_string() + "]"
+                                               : bound.address().to_string();
+    std::printf("manylight view: open http://%s:%d/ (Ctrl-C stops)\n", host.c_str(),
+                int(bound.port()));
+    std::fflush(stdout);
 
     std::thread render_thread([&] {
         std::unique_ptr<ViewRenderer> renderer;
