@@ -9,7 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <thread>
 
 #include "commands.h"
 #include "core/parallel.h"
@@ -115,7 +117,14 @@ void add_view_command(CLI::App& app, ViewArgs& a) {
         ->check(positive_seconds());
 }
 
-int run_view(const ViewArgs& a) {
+namespace {
+
+// The viewer's renderer for the scene of `a`: parsed, built into *scene (which must outlive it).
+std::unique_ptr<ViewRenderer> load_view(const ViewArgs& a, std::unique_ptr<Scene>* scene) {
+    // A slow load, for the tests of pages that connect meanwhile (tests/test_viewer_stress.cpp):
+    // a large scene on a busy machine, in a second or two.
+    if (const char* wait = std::getenv("MANYLIGHT_TEST_VIEW_LOAD_SECONDS"))
+        std::this_thread::sleep_for(std::chrono::duration<double>(std::atof(wait)));
     SceneDesc desc = parse_scene_file(a.scene);
     ViewConfig config;
     config.scene_path = a.scene;
@@ -139,6 +148,16 @@ int run_view(const ViewArgs& a) {
             config.height /= 2;
         }
     }
+    {
+        ThreadLimit limit(a.threads > 0 ? a.threads : default_thread_count());
+        *scene = std::make_unique<Scene>(std::move(desc));
+    }
+    return std::make_unique<ViewRenderer>(**scene, config);
+}
+
+}  // namespace
+
+int run_view(const ViewArgs& a) {
 #ifdef __GLIBC__
     // Frame after frame allocates and frees buffers of the same sizes (film, G-buffer): keep
     // the freed memory in the heap instead of unmapping it, so that each frame does not fault
@@ -147,20 +166,17 @@ int run_view(const ViewArgs& a) {
     mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
     std::unique_ptr<Scene> scene;
-    {
-        ThreadLimit limit(a.threads > 0 ? a.threads : default_thread_count());
-        scene = std::make_unique<Scene>(std::move(desc));
-    }
-    ViewRenderer renderer(*scene, config);
     if (a.bench_frames > 0) {
-        bench_moving_frames(renderer, a.bench_frames);
+        bench_moving_frames(*load_view(a, &scene), a.bench_frames);
         return 0;
     }
+    // The server listens before the scene loads: a page opened at once is told it loads.
     ViewServerOptions server;
+    server.scene = a.scene;
     server.bind = a.bind;
     server.port = a.port;
     server.exit_after = a.exit_after;
-    serve_viewer(renderer, server);
+    serve_viewer([&] { return load_view(a, &scene); }, server);
     return 0;
 }
 

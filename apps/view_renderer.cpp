@@ -295,7 +295,8 @@ void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessag
                                          {"progress", double(spp) / s.spp},
                                          {"frame_ms", ms},
                                          {"width", m_config.width},
-                                         {"height", m_config.height}};
+                                         {"height", m_config.height},
+                                         {"view", view_json(view)}};
                 if (converged) {
                     converged_image = out.image;
                     converged_view = view;
@@ -339,7 +340,8 @@ void ViewRenderer::run(const std::function<void(std::shared_ptr<const ViewMessag
                         {"vpls", frame.figures.vpls},
                         {"preview", divider},
                         {"width", m_config.width},
-                        {"height", m_config.height}},
+                        {"height", m_config.height},
+                        {"view", view_json(view)}},
                        s.exposure);
         } catch (const std::exception& e) {
             shown = version;

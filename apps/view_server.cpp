@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <deque>
+#include <mutex>
 #include <set>
 #include <string_view>
 #include <thread>
@@ -33,12 +34,19 @@ constexpr size_t kMaxQueuedFrames = 2;  // frames waiting for a slow page; older
 
 class WsSession;
 
-// What every session shares: the renderer and the open WebSockets. Touched only on the I/O
-// thread (the server runs one).
+// What every session shares: the renderer (null while the scene loads) and the open WebSockets.
+// Touched only on the I/O thread (the server runs one).
 struct Hub {
-    ViewRenderer& renderer;
+    ViewRenderer* renderer = nullptr;
+    std::shared_ptr<const ViewMessage> loading;  // what a page gets until the scene is ready
     std::set<std::shared_ptr<WsSession>> sessions;
 };
+
+std::shared_ptr<const ViewMessage> text_message(const nlohmann::json& j) {
+    auto msg = std::make_shared<ViewMessage>();
+    msg->text = j.dump();
+    return msg;
+}
 
 class WsSession : public std::enable_shared_from_this<WsSession> {
 public:
@@ -50,20 +58,28 @@ public:
         m_ws.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
             if (ec) return;
             self->m_hub.sessions.insert(self);
-            self->send(self->m_hub.renderer.hello());
-            if (auto frame = self->m_hub.renderer.last_frame()) self->send(frame);
+            if (self->m_hub.renderer)
+                self->greet();
+            else
+                self->send(self->m_hub.loading);
             self->read();
         });
+    }
+
+    // The scene's hello and its last frame, if any: on connecting, or once the scene is ready.
+    void greet() {
+        send(m_hub.renderer->hello());
+        if (auto frame = m_hub.renderer->last_frame()) send(frame);
     }
 
     void send(std::shared_ptr<const ViewMessage> msg) {
         if (m_closing) return;
         if (msg->frame) {
             // Drop frames a slow page has not started to receive: it gets the newest.
-            size_t frames = 0;
+            size_t frames = m_writing && m_current->frame ? 1 : 0;
             for (auto& m : m_queue) frames += m->frame;
             if (frames >= kMaxQueuedFrames)
-                for (auto it = m_queue.begin() + (m_writing ? 1 : 0); it != m_queue.end(); ++it)
+                for (auto it = m_queue.begin(); it != m_queue.end(); ++it)
                     if ((*it)->frame) {
                         m_queue.erase(it);
                         break;
@@ -103,18 +119,24 @@ private:
     std::string handle(const std::string& text) {
         try {
             ViewRequest r = decode_view_request(text);
+            if (!m_hub.renderer) {
+                // Nothing to steer yet: the page is told, and stays connected.
+                send(text_message(
+                    {{"type", "error"}, {"message", "the scene is still loading: wait for it"}}));
+                return "";
+            }
             switch (r.kind) {
                 case ViewRequest::Kind::View:
-                    m_hub.renderer.set_view(r.look_at);
+                    m_hub.renderer->set_view(r.look_at);
                     break;
                 case ViewRequest::Kind::Settings:
-                    m_hub.renderer.set_settings(r.settings);
+                    m_hub.renderer->set_settings(r.settings);
                     break;
                 case ViewRequest::Kind::Reset:
-                    m_hub.renderer.reset_view();
+                    m_hub.renderer->reset_view();
                     break;
                 case ViewRequest::Kind::Save:
-                    m_hub.renderer.request_save();
+                    m_hub.renderer->request_save();
                     break;
             }
         } catch (const Error& e) {
@@ -123,30 +145,32 @@ private:
         return "";
     }
 
+    // The message in flight is held apart from the queue, which a bad message or a page that
+    // leaves clears meanwhile: the writes' buffers stay alive until they end.
     void write_next() {
         if (m_queue.empty()) return;
         m_writing = true;
-        const auto& msg = m_queue.front();
+        m_current = std::move(m_queue.front());
+        m_queue.pop_front();
         m_ws.text(true);
         m_ws.async_write(
-            net::buffer(msg->text),
+            net::buffer(m_current->text),
             [self = shared_from_this()](beast::error_code ec, size_t) { self->after_text(ec); });
     }
 
     void after_text(beast::error_code ec) {
-        if (ec) return leave();
-        const auto& msg = m_queue.front();
-        if (msg->rgba.empty()) return after_write({});
+        if (ec) return after_write(ec);
+        if (m_current->rgba.empty()) return after_write({});
         m_ws.binary(true);
         m_ws.async_write(
-            net::buffer(msg->rgba),
+            net::buffer(m_current->rgba),
             [self = shared_from_this()](beast::error_code ec, size_t) { self->after_write(ec); });
     }
 
     void after_write(beast::error_code ec) {
         m_writing = false;
+        m_current.reset();
         if (ec) return leave();
-        if (!m_queue.empty()) m_queue.pop_front();
         if (m_closing) {
             m_ws.async_close(websocket::close_code::policy_error,
                              [self = shared_from_this()](beast::error_code) {});
@@ -165,6 +189,7 @@ private:
     beast::flat_buffer m_buffer;
     Hub& m_hub;
     std::deque<std::shared_ptr<const ViewMessage>> m_queue;
+    std::shared_ptr<const ViewMessage> m_current;  // being written
     bool m_writing = false, m_closing = false;
 };
 
@@ -259,7 +284,7 @@ void accept(tcp::acceptor& acceptor, Hub& hub) {
 
 }  // namespace
 
-void serve_viewer(ViewRenderer& renderer, const ViewServerOptions& opt) {
+void serve_viewer(const ViewLoader& load, const ViewServerOptions& opt) {
     net::io_context ioc(1);
     beast::error_code ec;
     net::ip::address address = net::ip::make_address(opt.bind, ec);
@@ -273,24 +298,35 @@ void serve_viewer(ViewRenderer& renderer, const ViewServerOptions& opt) {
     if (ec)
         throw UsageError(
             fmt::format("cannot listen on {}:{}: {}", opt.bind, opt.port, ec.message()));
-    Hub hub{renderer, {}};
+    Hub hub;
+    hub.loading = text_message({{"type", "loading"}, {"scene", opt.scene}});
     accept(acceptor, hub);
 
-    const tcp::endpoint bound = acceptor.local_endpoint();
-    std::string host = bound.address().is_v6() ? "[" + bound.address().to_string() + "]"
-                                               : bound.address().to_string();
-    std::printf("manylight view: open http://%s:%d/ (Ctrl-C stops)\n", host.c_str(),
-                int(bound.port()));
-    std::fflush(stdout);
-
+    // The loader thread builds the renderer, then runs its loop; the I/O thread (this one)
+    // serves the pages meanwhile. `state` is shared by both.
+    struct {
+        std::mutex mutex;
+        bool stopping = false, loaded = false;
+        std::unique_ptr<ViewRenderer> renderer;
+        std::exception_ptr failure;
+    } state;
+    net::signal_set signals(ioc, SIGINT, SIGTERM);
     auto shutdown = [&] {
-        renderer.stop();
+        {
+            std::lock_guard lock(state.mutex);
+            state.stopping = true;
+            if (state.renderer) state.renderer->stop();
+        }
         beast::error_code ignored;
         acceptor.close(ignored);
+        // A second Ctrl-C (while the scene still loads, which cannot be cut short) ends the
+        // process at once.
+        signals.clear(ignored);
         ioc.stop();
     };
-    net::signal_set signals(ioc, SIGINT, SIGTERM);
-    signals.async_wait([&](beast::error_code, int) { shutdown(); });
+    signals.async_wait([&](beast::error_code e, int) {
+        if (!e) shutdown();
+    });
     net::steady_timer timer(ioc);
     if (opt.exit_after > 0) {
         timer.expires_after(std::chrono::milliseconds(int64_t(opt.exit_after * 1000)));
@@ -299,8 +335,39 @@ void serve_viewer(ViewRenderer& renderer, const ViewServerOptions& opt) {
         });
     }
 
+    // The address once Ctrl-C is handled: a stop right after it is a clean one.
+    const tcp::endpoint bound = acceptor.local_endpoint();
+    std::string host = bound.address().is_v6() ? "[" + bound.address().to_string() + "]"
+                                               : bound.address().to_string();
+    std::printf("manylight view: open http://%s:%d/ (Ctrl-C stops)\n", host.c_str(),
+                int(bound.port()));
+    std::fflush(stdout);
+
     std::thread render_thread([&] {
-        renderer.run([&](std::shared_ptr<const ViewMessage> msg) {
+        std::unique_ptr<ViewRenderer> renderer;
+        try {
+            renderer = load();
+        } catch (...) {
+            std::lock_guard lock(state.mutex);
+            state.failure = std::current_exception();
+            state.loaded = true;
+            net::post(ioc, shutdown);
+            return;
+        }
+        ViewRenderer* r = renderer.get();
+        {
+            std::lock_guard lock(state.mutex);
+            state.loaded = true;
+            if (state.stopping) return;
+            state.renderer = std::move(renderer);
+        }
+        // The pages that connected while the scene loaded get its hello now; posted before the
+        // loop's first frame, so they get it first (the I/O thread runs handlers in order).
+        net::post(ioc, [&hub, r] {
+            hub.renderer = r;
+            for (const auto& s : std::vector(hub.sessions.begin(), hub.sessions.end())) s->greet();
+        });
+        r->run([&](std::shared_ptr<const ViewMessage> msg) {
             net::post(ioc, [&hub, msg] {
                 for (const auto& s : std::vector(hub.sessions.begin(), hub.sessions.end()))
                     s->send(msg);
@@ -308,8 +375,15 @@ void serve_viewer(ViewRenderer& renderer, const ViewServerOptions& opt) {
         });
     });
     ioc.run();
-    renderer.stop();
+    {
+        std::lock_guard lock(state.mutex);
+        if (!state.loaded)
+            std::printf(
+                "manylight view: stopping once the scene has loaded (Ctrl-C again: at once)\n");
+        std::fflush(stdout);
+    }
     render_thread.join();
+    if (state.failure) std::rethrow_exception(state.failure);
     std::printf("manylight view: stopped\n");
 }
 

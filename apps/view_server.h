@@ -6,6 +6,7 @@
 // away leaves the server running.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -14,15 +15,21 @@
 namespace ml {
 
 struct ViewServerOptions {
+    std::string scene;  // the scene's name, for the pages that connect while it loads
     std::string bind = "127.0.0.1";
     int port = 8080;        // 0: any free port
     double exit_after = 0;  // seconds; > 0: stop by itself after this long (tests)
 };
 
-// Listens, prints the address to open, and serves until SIGINT or SIGTERM (or exit_after);
-// runs the renderer's loop on a thread of its own meanwhile. Throws UsageError when it cannot
-// listen.
-void serve_viewer(ViewRenderer& renderer, const ViewServerOptions& options);
+// Makes the renderer: loads the scene and builds it (seconds to minutes for a large one).
+using ViewLoader = std::function<std::unique_ptr<ViewRenderer>()>;
+
+// Listens, prints the address to open, and serves until SIGINT or SIGTERM (or exit_after). The
+// scene loads meanwhile on a thread of its own (`load`), which then runs the renderer's loop:
+// pages that connect before it is ready are told that it loads (a "loading" message), and get
+// the hello and the frames once it is. Throws UsageError when it cannot listen, and what `load`
+// throws (after closing the server). A stop while the scene loads waits for the load to end.
+void serve_viewer(const ViewLoader& load, const ViewServerOptions& options);
 
 // The files the page is made of, compiled into the program (web_files.cpp, generated).
 struct EmbeddedFile {

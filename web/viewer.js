@@ -1,5 +1,6 @@
 // manylight view: the page. It draws the frames the server sends (a JSON status, then the RGBA8
-// pixels), turns the mouse and keys into views (eye, target, up), and sends the settings.
+// pixels; before them "loading" while the scene loads, then a "hello"), turns the mouse and keys
+// into views (eye, target, up), and sends the settings.
 'use strict';
 (() => {
   const $ = (id) => document.getElementById(id);
@@ -71,7 +72,14 @@
       return;
     }
     const msg = JSON.parse(ev.data);
-    if (msg.type === 'hello') {
+    if (msg.type === 'loading') {
+      // The server listens while the scene loads; the hello comes once it is ready.
+      $('mode').textContent = 'loading the scene';
+      $('scene-name').textContent = msg.scene;
+      document.body.dataset.mode = 'loading';
+    } else if (msg.type === 'hello') {
+      $('mode').textContent = 'waiting for the first frame';
+      $('error').textContent = '';
       view = msg.view; home = msg.home;
       canvas.width = msg.width; canvas.height = msg.height;
       $('scene-name').textContent = msg.scene;

@@ -1,4 +1,5 @@
 #include "manylight/light_tree.h"
+#include "manylight/vpl_memory.h"
 
 #include <fmt/format.h>
 
@@ -393,6 +394,25 @@ void LightTree::lay_out(detail::LightTreeBuild& build) {
         m_intensity[i] = b.intensity;
         std::copy_n(b.falloff, kFalloffBins, m_falloff[i].begin());
     });
+}
+
+size_t light_tree_bytes_per_light(int reps) {
+    return 2 * (sizeof(LightTreeNode) + size_t(reps) * sizeof(int32_t) + sizeof(float) +
+                sizeof(RGB) + kFalloffBins);
+}
+
+size_t light_tree_peak_build_bytes_per_light(int reps) {
+    // The built nodes with their representatives and chroma, alive throughout; while the lights
+    // are clustered, per light its id, its Morton key, two sets of clusters' columns and PLOC's
+    // window of costs and its indices; then, while the nodes are laid out, the tree and two
+    // indices per node.
+    const size_t built = 2 * (sizeof(BuildNode) + size_t(reps) * sizeof(int32_t) + sizeof(RGB));
+    const size_t clustering =
+        sizeof(int32_t) + sizeof(std::pair<uint64_t, int32_t>) +
+        2 * (sizeof(int32_t) + sizeof(Bounds3) + sizeof(Vec3) + 2 * sizeof(float)) +
+        size_t(LightTreeOptions{}.window_radius) * sizeof(float) + 3 * sizeof(int32_t);
+    const size_t laying_out = light_tree_bytes_per_light(reps) + 2 * 2 * sizeof(int32_t);
+    return built + std::max(clustering, laying_out);
 }
 
 }  // namespace ml

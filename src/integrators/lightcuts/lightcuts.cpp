@@ -12,6 +12,7 @@
 #include "manylight/gather.h"
 #include "manylight/pilot.h"
 #include "manylight/representative.h"
+#include "manylight/vpl_memory.h"
 #include "render/render_loop.h"
 
 namespace ml {
@@ -72,6 +73,10 @@ LightcutsIntegrator::LightcutsIntegrator(const Settings& settings)
 }
 
 void LightcutsIntegrator::prepare(const Scene& scene) {
+    // A pass's new set (vpl.sets=pass) replaces the last: that one goes first, so that two sets
+    // and trees are never held at once (manylight/vpl_memory.h).
+    m_tree = LightTree();
+    m_set = PointLightSet();
     build_many_lights(scene, m_settings, &m_set, &m_direct);
     m_tree = build_light_tree(scene, m_settings, m_set, &m_tree_seconds);
 }
@@ -80,6 +85,7 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
+    check_vpl_memory(m_settings, true, name());
     m_width = ctx.film.width();
     m_pixel_cut.assign(size_t(ctx.film.width()) * ctx.film.height(), 0.f);
     m_pixel_samples.assign(m_pixel_cut.size(), 0);

@@ -11,6 +11,7 @@
 #include "manylight/gather_tree.h"
 #include "manylight/pilot.h"
 #include "manylight/product_cut.h"
+#include "manylight/vpl_memory.h"
 #include "render/render_loop.h"
 
 namespace ml {
@@ -64,6 +65,10 @@ MdLightcutsIntegrator::MdLightcutsIntegrator(const Settings& settings)
 }
 
 void MdLightcutsIntegrator::prepare(const Scene& scene) {
+    // A pass's new set (vpl.sets=pass) replaces the last: that one goes first, so that two sets
+    // and trees are never held at once (manylight/vpl_memory.h).
+    m_tree = LightTree();
+    m_set = PointLightSet();
     build_many_lights(scene, m_settings, &m_set, &m_direct);
     m_tree = build_light_tree(scene, m_settings, m_set, &m_tree_seconds);
 }
@@ -72,6 +77,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
+    check_vpl_memory(m_settings, true, name());
     prepare(ctx.scene);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
