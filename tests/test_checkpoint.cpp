@@ -192,6 +192,32 @@ TEST_F(Checkpoints, TheTimeLimitIsTheTotal) {
     EXPECT_GT(render(longer).figures.spp, first);
 }
 
+// bdlightcuts (the default many-light integrator) under a time limit: the limit is the total,
+// and the resumed render keeps the first run's pass plan (its cut cap and samples per pass).
+TEST_F(Checkpoints, BdlightcutsTakesTheTimeLimitAsTheTotal) {
+    ml::RenderOptions o = options("bdlightcuts", 1 << 16);
+    o.set = {{"vpl.count", "200"}};
+    o.time_limit = 0.4;
+    o.checkpoint = path("t.ckpt");
+    const ml::RenderOutput first = render(o);
+    ASSERT_GT(first.figures.spp, 0);
+    ASSERT_LT(first.figures.spp, 1 << 16);
+    ml::RenderOptions again = o;
+    again.resume = o.checkpoint;
+    again.checkpoint = path("t2.ckpt");
+    const ml::RenderOutput same = render(again);
+    EXPECT_GE(same.figures.spp, first.figures.spp);
+    EXPECT_LT(same.figures.seconds_render, 0.5 * o.time_limit);
+    ml::RenderOptions longer = again;
+    longer.time_limit = 1.2;
+    const ml::RenderOutput more = render(longer);
+    EXPECT_GT(more.figures.spp, first.figures.spp);
+    const auto& a = first.figures.integrator_stats.at("bdlightcuts");
+    const auto& b = more.figures.integrator_stats.at("bdlightcuts");
+    EXPECT_EQ(a.at("time_cap"), b.at("time_cap"));
+    EXPECT_EQ(a.at("pass_samples"), b.at("pass_samples"));
+}
+
 // Periodic saves: with --checkpoint-every 0 one after every round, and the last is the end.
 TEST_F(Checkpoints, SavesAfterEveryRoundWhenAsked) {
     ml::RenderOptions o = options("path", 4);
