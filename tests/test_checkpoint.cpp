@@ -1,10 +1,10 @@
 // Checkpoint and resume (--checkpoint, --resume): a render stopped part way (here by its own
 // progress callback setting the cancel flag, as Ctrl-C does) and resumed from its checkpoint
 // gives the uninterrupted render's image: bit for bit for pixel integrators (the many-light ones
-// with a VPL set per pass included), within float rounding for splats (lighttracer) and Markov
-// chains (pssmlt, whose chains' states are saved), where only the order of the splat sums
-// differs. A checkpoint of another scene, integrator, settings or version is refused; an
-// integrator that cannot save its state is refused up front.
+// with a VPL set per pass included, and mdlightcuts' and bdlightcuts' passes), within float
+// rounding for splats (lighttracer) and Markov chains (pssmlt, whose chains' states are saved),
+// where only the order of the splat sums differs. A checkpoint of another scene, integrator,
+// settings or version is refused; an integrator that cannot save its state is refused up front.
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
@@ -62,16 +62,17 @@ protected:
         return out.figures.spp;
     }
     // Stops the render at `stop_at`, resumes it to the end, and returns both images: the
-    // uninterrupted one and the resumed one.
-    std::pair<ml::Image, ml::Image> stop_and_resume(const ml::RenderOptions& o, double stop_at) {
+    // uninterrupted one and the resumed one. `unit`: the samples per pixel of the loop's unit.
+    std::pair<ml::Image, ml::Image> stop_and_resume(const ml::RenderOptions& o, double stop_at,
+                                                    int unit = 1) {
         const std::string file = path("state.ckpt");
         const int done = render_stopped(o, stop_at, file);
         EXPECT_LT(done, *o.spp) << "stopped after the end: nothing is resumed";
         ml::RenderOptions r = o;
         r.resume = file;
         ml::RenderOutput resumed = render(r);
-        // (The units are samples per pixel, or pssmlt's mutations.)
-        EXPECT_GE(resumed.figures.resumed_from, done);
+        // (The units are samples per pixel, passes of `unit` samples, or pssmlt's mutations.)
+        EXPECT_GE(int64_t(resumed.figures.resumed_from) * unit, done);
         EXPECT_EQ(resumed.figures.spp, *o.spp);
         return {render(o).image, resumed.image};
     }
@@ -111,6 +112,50 @@ TEST_F(Checkpoints, LightcutsWithASetPerPassResumesBitForBit) {
     expect_bit_identical(full, resumed);
 }
 
+// mdlightcuts with its defaults: passes of 32 samples per pixel, each shaded by one product cut
+// and with a VPL set of its own (vpl.sets=pass). Stopped in the second of four passes (some
+// pixels a pass ahead) and resumed with another thread count; the pass's set is rebuilt from the
+// seed and the pass. A checkpoint of other settings is refused.
+TEST_F(Checkpoints, MdlightcutsResumesBitForBit) {
+    ml::RenderOptions o = options("mdlightcuts", 4 * 32);
+    o.set = {{"vpl.count", "200"}};
+    const std::string file = path("md.ckpt");
+    const int done = render_stopped(o, 0.4, file);
+    EXPECT_LT(done, 4 * 32);
+    ml::RenderOptions r = o;
+    r.resume = file;
+    r.threads = 1;
+    ml::RenderOutput resumed = render(r);
+    EXPECT_GE(resumed.figures.resumed_from * 32, done);
+    EXPECT_EQ(resumed.figures.spp, 4 * 32);
+    expect_bit_identical(render(o).image, resumed.image);
+    r.set["mdlightcuts.samples"] = "16";
+    EXPECT_THROW(render(r), ml::UsageError);
+}
+
+// bdlightcuts with its defaults: passes of 16 samples, adaptive sampling after the first (each
+// pixel's share of the later passes from its neighbours' noise in the first). Stopped twice, in
+// the first pass (the pixels that finished it keep their noise in the checkpoint) and in a later
+// one, and resumed twice: the shares are planned again from the saved noise, exactly.
+TEST_F(Checkpoints, BdlightcutsResumesBitForBit) {
+    ml::RenderOptions o = options("bdlightcuts", 4 * 16);
+    o.set = {{"vpl.count", "200"}};
+    const std::string a = path("a.ckpt"), b = path("b.ckpt");
+    const int first = render_stopped(o, 0.1, a);
+    EXPECT_EQ(first, 0);  // in the first pass
+    const int second = render_stopped(o, 0.6, b, a);
+    EXPECT_GT(second, 0);
+    EXPECT_LT(second, 4 * 16);
+    ml::RenderOptions r = o;
+    r.resume = b;
+    ml::RenderOutput resumed = render(r);
+    EXPECT_EQ(resumed.figures.spp, 4 * 16);
+    const ml::RenderOutput full = render(o);
+    EXPECT_GT(full.figures.integrator_stats.at("bdlightcuts").at("max_sample_share").get<double>(),
+              1.0);
+    expect_bit_identical(full.image, resumed.image);
+}
+
 // Light tracing: the splat sums are saved exactly; only their order of summation differs.
 TEST_F(Checkpoints, LighttracerResumesWithinRounding) {
     auto [full, resumed] = stop_and_resume(options("lighttracer", 8), 0.4);
@@ -145,6 +190,32 @@ TEST_F(Checkpoints, TheTimeLimitIsTheTotal) {
     ml::RenderOptions longer = again;
     longer.time_limit = 1.0;
     EXPECT_GT(render(longer).figures.spp, first);
+}
+
+// bdlightcuts (the default many-light integrator) under a time limit: the limit is the total,
+// and the resumed render keeps the first run's pass plan (its cut cap and samples per pass).
+TEST_F(Checkpoints, BdlightcutsTakesTheTimeLimitAsTheTotal) {
+    ml::RenderOptions o = options("bdlightcuts", 1 << 16);
+    o.set = {{"vpl.count", "200"}};
+    o.time_limit = 0.4;
+    o.checkpoint = path("t.ckpt");
+    const ml::RenderOutput first = render(o);
+    ASSERT_GT(first.figures.spp, 0);
+    ASSERT_LT(first.figures.spp, 1 << 16);
+    ml::RenderOptions again = o;
+    again.resume = o.checkpoint;
+    again.checkpoint = path("t2.ckpt");
+    const ml::RenderOutput same = render(again);
+    EXPECT_GE(same.figures.spp, first.figures.spp);
+    EXPECT_LT(same.figures.seconds_render, 0.5 * o.time_limit);
+    ml::RenderOptions longer = again;
+    longer.time_limit = 1.2;
+    const ml::RenderOutput more = render(longer);
+    EXPECT_GT(more.figures.spp, first.figures.spp);
+    const auto& a = first.figures.integrator_stats.at("bdlightcuts");
+    const auto& b = more.figures.integrator_stats.at("bdlightcuts");
+    EXPECT_EQ(a.at("time_cap"), b.at("time_cap"));
+    EXPECT_EQ(a.at("pass_samples"), b.at("pass_samples"));
 }
 
 // Periodic saves: with --checkpoint-every 0 one after every round, and the last is the end.
@@ -224,6 +295,7 @@ TEST_F(Checkpoints, AnIntegratorThatCannotSaveItsStateIsRefused) {
         EXPECT_NE(std::string(e.what()).find("cannot save its state"), std::string::npos)
             << e.what();
         EXPECT_NE(std::string(e.what()).find("pssmlt"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("bdlightcuts"), std::string::npos) << e.what();
     }
     EXPECT_FALSE(fs::exists(o.checkpoint));
     // A guided path tracer's state is its guide, which a checkpoint does not hold.

@@ -210,6 +210,13 @@ bool ManyLightSettings::use_set(int64_t index, const PointLightSet& first) {
     return true;
 }
 
+void ManyLightSettings::use_first_set_vpls(int vpls) {
+    if (!(lights.vpl_budget.seconds > 0) || vpls <= 0) return;
+    first_vpl_request = lights.vpl_count;
+    lights.vpl_count = std::min(lights.vpl_count, vpls);
+    lights.vpl_budget = VplBudget{};
+}
+
 void read_vpl_sets(const Settings& s, ManyLightSettings* settings) {
     const std::string sets = s.get_string(
         "vpl.sets", "pass",
@@ -278,6 +285,29 @@ nlohmann::json cut_cap_json(const CutCapPlan& plan) {
             {"probe_mean_cut", plan.mean_full_size},
             {"samples_scale", plan.samples_scale},
             {"fixed_share", plan.fixed_share}};
+}
+
+nlohmann::json pass_plan_json(const CutCapPlan& plan, int first_set_vpls) {
+    nlohmann::json j = cut_cap_json(plan);
+    j["first_set_vpls"] = first_set_vpls;
+    return j;
+}
+
+bool read_pass_plan(const nlohmann::json& state, CutCapPlan* plan, int* first_set_vpls) {
+    if (!state.contains("pass_plan")) return false;
+    try {
+        const nlohmann::json& j = state.at("pass_plan");
+        plan->cap = j.at("cap").get<int>();
+        plan->full_seconds = j.at("full_pass_seconds").get<double>();
+        plan->capped_seconds = j.at("capped_pass_seconds").get<double>();
+        plan->mean_full_size = j.at("probe_mean_cut").get<double>();
+        plan->samples_scale = j.at("samples_scale").get<double>();
+        plan->fixed_share = j.at("fixed_share").get<double>();
+        *first_set_vpls = j.at("first_set_vpls").get<int>();
+    } catch (const nlohmann::json::exception& e) {
+        throw UsageError(std::string("--resume: a damaged checkpoint (") + e.what() + ")");
+    }
+    return true;
 }
 
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {

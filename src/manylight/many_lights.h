@@ -62,6 +62,10 @@ struct ManyLightSettings {
     // costs what the first did). `first` is the first set. Returns false (nothing changed)
     // without set_per_pass or for index 0.
     bool use_set(int64_t index, const PointLightSet& first);
+    // A render resumed from a checkpoint under a time limit: every set takes `vpls`, what the
+    // first run's budget fitted its first set to, as use_set takes it from set 1 on (the time
+    // left now is not what that budget had), and no budget of its own. Nothing without a budget.
+    void use_first_set_vpls(int vpls);
     // Under ctx's time limit, what the VPL build may take (lights.vpl_budget, vpl_budget.h); with
     // `with_tree`, the light tree over the set counts in it (it grows with the count: the
     // standard sampler's 266k VPLs took 0.31 s, their tree 1.07 s). Call after use_render_seed.
@@ -113,6 +117,14 @@ std::string capped_cut_warning(const std::string& integrator, const char* what, 
                                int max_cut, const PointLightSet& set, int time_cap = 0);
 // The --stats figures of a time-limited pass's cut cap (mdlightcuts.time_cap).
 nlohmann::json cut_cap_json(const CutCapPlan& plan);
+// What a checkpoint of an integrator with whole-film passes (mdlightcuts, bdlightcuts) keeps of
+// the plan it made before its first pass: the cut cap plan (pilot.h; the passes' cap and samples
+// under a time limit) and the VPL count the time budget chose for the first set (0: none; see
+// use_first_set_vpls). A resumed render takes them again rather than planning from the time
+// left, so that its passes are the first run's. The integrator's state holds it as "pass_plan";
+// read_pass_plan returns false where `state` has none, throws UsageError where it is damaged.
+nlohmann::json pass_plan_json(const CutCapPlan& plan, int first_set_vpls);
+bool read_pass_plan(const nlohmann::json& state, CutCapPlan* plan, int* first_set_vpls);
 // The --stats figures of the point-light set and the sampled direct light (build time, lights
 // by kind, light paths, direct-light mode), as lightcuts and mdlightcuts report them.
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct);

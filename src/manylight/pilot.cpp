@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "render/checkpoint.h"
 #include "render/render_loop.h"
 
 namespace ml {
@@ -142,30 +143,49 @@ SamplePasses render_sample_passes(
     const std::function<void(int64_t pass)>& begin_pass) {
     const int64_t n = pass_samples, passes = (int64_t(ctx.spp) + n - 1) / n;
     const double start = ctx.elapsed();
+    // With a checkpoint the passes are its units: a resumed render goes on from the pass it
+    // stopped in (its earlier passes' time is not this run's).
+    Checkpoint* checkpoint = ctx.checkpoint;
+    const int64_t resumed =
+        checkpoint && checkpoint->resuming() ? std::min(checkpoint->units(), passes) : 0;
     SamplePasses out;
-    // Passes [from, from + count), each pixel taking its passes in order.
-    auto run = [&](int64_t from, int64_t count) {
+    // Passes [from, to), each pixel taking its passes in order; returns the passes done from 0.
+    auto run = [&](int64_t from, int64_t to) {
         auto shade = [&](Point2i pixel, int64_t p0, int64_t p1) {
-            for (int64_t p = from + p0; p < from + p1; ++p) fn(pixel, int(p * n), int(n));
+            for (int64_t p = p0; p < p1; ++p) fn(pixel, int(p * n), int(n));
         };
-        if (!begin_pass) return render_pixels(ctx, count, shade);
+        if (!begin_pass && !checkpoint)
+            return from + render_pixels(ctx, to - from, [&](Point2i pixel, int64_t p0, int64_t p1) {
+                       shade(pixel, from + p0, from + p1);
+                   });
         return render_pixel_blocks(
-            ctx, count, 1, [&](int64_t b) { begin_pass(from + b); }, shade);
+            ctx, passes, 1,
+            [&](int64_t b) {
+                if (begin_pass) begin_pass(b);
+            },
+            shade, checkpoint, from, to);
     };
     if (after_first && passes > 1) {
         out.whole = run(0, 1);
         if (out.whole == 1) {
             after_first();
-            out.whole += run(1, passes - 1);
+            out.whole = run(1, passes);
         }
     } else {
         out.whole = run(0, passes);
     }
     out.samples = out.whole * n;
-    if (out.whole > 0) out.pass_seconds = (ctx.elapsed() - start) / double(out.whole);
+    if (out.whole > resumed)
+        out.pass_seconds = (ctx.elapsed() - start) / double(out.whole - resumed);
+    // The passes done, as a checkpoint counts them (the last pass below is one).
+    int64_t units = out.whole;
+    auto finish = [&] {
+        if (checkpoint) checkpoint->save(units, ctx.elapsed());
+        return out;
+    };
     // A round cut short by the limit leaves its samples in some tiles: none is taken again.
     if (!(ctx.time_limit > 0) || out.whole == 0 || out.whole >= passes || ctx.out_of_time())
-        return out;
+        return finish();
     LastPass plan =
         last_pass(pass_samples, out.pass_seconds, fixed_share, ctx.time_limit - ctx.elapsed());
     int64_t k = std::min<int64_t>(plan.samples, int64_t(ctx.spp) - out.samples);
@@ -175,18 +195,32 @@ SamplePasses render_sample_passes(
         plan.cut_share =
             double(ctx.world->all_min(int64_t(std::floor(plan.cut_share * 1e6)))) * 1e-6;
     }
-    if (k <= 0) return out;
+    if (k <= 0) return finish();
     plan.samples = int(k);
     if (last) last(plan);
-    if (begin_pass) begin_pass(out.whole);
+    // The last pass is pass `whole` of the loop: with a checkpoint its pixels count it done.
     const int first = int(out.samples);
-    if (render_pixels(ctx, 1, [&](Point2i pixel, int64_t, int64_t) { fn(pixel, first, int(k)); }) ==
-        1) {
+    auto shade_last = [&](Point2i pixel, int64_t, int64_t) { fn(pixel, first, int(k)); };
+    int64_t ran = 0;
+    if (checkpoint) {
+        ran = render_pixel_blocks(
+                  ctx, out.whole + 1, 1,
+                  [&](int64_t b) {
+                      if (begin_pass) begin_pass(b);
+                  },
+                  shade_last, checkpoint, out.whole) -
+              out.whole;
+    } else {
+        if (begin_pass) begin_pass(out.whole);
+        ran = render_pixels(ctx, 1, shade_last);
+    }
+    if (ran == 1) {
         out.samples += k;
         out.last_samples = int(k);
         out.last_cut_share = plan.cut_share;
+        ++units;
     }
-    return out;
+    return finish();
 }
 
 CutProbe probe_cuts(int width, int height, int lowest, int max_cut, int samples, double seconds,

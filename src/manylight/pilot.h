@@ -106,6 +106,11 @@ struct SamplePasses {
 // starts, and after_first() runs between them (adaptive sampling from the first pass). With
 // `begin_pass`, every pass (the last one too) is begun by begin_pass(p), p = 0, 1, ..., once the
 // pass before has ended on every pixel (render_pixel_blocks): the integrator's new VPL set.
+// With ctx.checkpoint the passes are its units (the last pass one more): a resumed render
+// begins at the pass the checkpoint stopped in (pixels a stop left ahead skip it), with
+// begin_pass(p) for it and after_first() first where it is past the first pass (the integrator
+// restores what after_first needs); the end, or a stop, is saved. The integrator saves what its
+// passes need in the checkpoint's state (Checkpoint::set_state).
 SamplePasses render_sample_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<void(Point2i pixel, int first, int samples)>& fn,

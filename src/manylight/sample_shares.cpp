@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "core/world.h"
+#include "render/checkpoint.h"
 
 namespace ml {
 
@@ -69,16 +71,44 @@ SamplePasses render_adaptive_passes(
         }
     };
     auto plan = [&] {
+        // (A copy: `variance` stays this rank's own, as a checkpoint saves it.)
+        std::vector<float> all = variance;
         if (ctx.ranks() > 1) {
             // Each pixel's variance is non-zero on the rank that owns it alone: exact sums.
-            ctx.world->reduce_sum(variance.data(), n);
-            ctx.world->broadcast(variance.data(), n * sizeof(float));
+            ctx.world->reduce_sum(all.data(), n);
+            ctx.world->broadcast(all.data(), n * sizeof(float));
         }
-        shares = neighbour_sample_shares(w, h, variance);
+        shares = neighbour_sample_shares(w, h, all);
         if (max_share && !shares.empty())
             *max_share = *std::max_element(shares.begin(), shares.end());
     };
-    return render_sample_passes(ctx, pass_samples, fixed_share, pass, last, plan, begin_pass);
+    // With a checkpoint, the first pass's variances and each pixel's next sample go into its
+    // state: the shares follow from the variances exactly (plan() runs again on resuming), and
+    // the pixels a stop left ahead have theirs.
+    Checkpoint* checkpoint = ctx.checkpoint;
+    if (!checkpoint)
+        return render_sample_passes(ctx, pass_samples, fixed_share, pass, last, plan, begin_pass);
+    if (checkpoint->resuming()) {
+        const nlohmann::json& state = checkpoint->integrator_state();
+        if (!state.contains("adaptive"))
+            throw UsageError("--resume: the checkpoint holds no adaptive sampling state");
+        try {
+            variance = from_binary<float>(state["adaptive"].at("variance"), n);
+            next = from_binary<int>(state["adaptive"].at("next"), n);
+        } catch (const std::exception& e) {
+            throw UsageError(std::string("--resume: a damaged checkpoint (") + e.what() + ")");
+        }
+    }
+    const std::function<nlohmann::json()> outer = checkpoint->state();
+    checkpoint->set_state([&] {
+        nlohmann::json j = outer ? outer() : nlohmann::json::object();
+        j["adaptive"] = {{"variance", to_binary(variance)}, {"next", to_binary(next)}};
+        return j;
+    });
+    SamplePasses out =
+        render_sample_passes(ctx, pass_samples, fixed_share, pass, last, plan, begin_pass);
+    checkpoint->set_state(outer);
+    return out;
 }
 
 }  // namespace ml

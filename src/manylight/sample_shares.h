@@ -44,7 +44,9 @@ inline float relative_variance(float variance, float value) {
 // has a noise of its own (bdlightcuts' cut, one per pass) averages more of it where the pixel
 // is noisy. Across ranks, the first pass's variances are summed and broadcast, so that every
 // rank plans the same shares. `max_share`, if given, receives the largest share. `begin_pass` as
-// render_sample_passes takes it.
+// render_sample_passes takes it. With ctx.checkpoint, the first pass's variances and the pixels'
+// sample counts are saved with the integrator's state (its key "adaptive"), and a resumed render
+// plans the same shares from them.
 SamplePasses render_adaptive_passes(
     const RenderContext& ctx, int pass_samples, double fixed_share,
     const std::function<float(Point2i pixel, int first, int samples)>& fn,

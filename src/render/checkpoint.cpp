@@ -52,6 +52,8 @@ std::vector<T> from_binary(const nlohmann::json& j, size_t n) {
 template std::vector<double> from_binary(const nlohmann::json&, size_t);
 template std::vector<float> from_binary(const nlohmann::json&, size_t);
 template std::vector<int64_t> from_binary(const nlohmann::json&, size_t);
+template std::vector<int32_t> from_binary(const nlohmann::json&, size_t);
+template std::vector<uint32_t> from_binary(const nlohmann::json&, size_t);
 
 Checkpoint::Checkpoint(std::string path, double every_seconds, const std::string& resume_path,
                        nlohmann::json fingerprint, Film& film, World& world)

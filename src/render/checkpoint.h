@@ -1,7 +1,8 @@
 // Checkpoints: a render's state saved to a file at round boundaries of the render loop, from which
 // a later run continues (--checkpoint, --resume). The state is the film's exact sums, the units
-// the loop has done (samples per pixel, mutations), per pixel where a stop left a round part-done,
-// the render time spent, and what the integrator needs to go on (splat sums, Markov chains). The
+// the loop has done (samples per pixel, passes of the many-light integrators, mutations), per
+// pixel where a stop left a round part-done, the render time spent, and what the integrator needs
+// to go on (splat sums, Markov chains, the first pass's noise for adaptive sampling). The
 // file is one CBOR document (nlohmann-json) holding the arrays as raw bytes: lossless. It names
 // what it was rendered from (a fingerprint of the scene file, the integrator and its resolved
 // settings, resolution, seed, spp, ranks and the program's version); a run whose fingerprint
@@ -62,6 +63,8 @@ public:
     // What the integrator adds to a save (splat sums, chains): set for the time of a render by
     // an integrator with state of its own; null: none.
     void set_state(std::function<nlohmann::json()> state) { m_state = std::move(state); }
+    // The state set, for a layer that adds its own to the integrator's (and sets it back).
+    const std::function<nlohmann::json()>& state() const { return m_state; }
 
     // At a round boundary (every pixel at `units`, or ahead per pixel_units): saves if a save is
     // due. Across ranks a collective (rank 0 decides), so every rank calls it at the same

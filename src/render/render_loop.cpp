@@ -85,16 +85,19 @@ int64_t render_pixels(const RenderContext& ctx, int64_t units,
 int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t block,
                             const std::function<void(int64_t b)>& begin_block,
                             const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn,
-                            Checkpoint* checkpoint) {
+                            Checkpoint* checkpoint, int64_t from, int64_t to) {
     ML_ASSERT(block > 0, "render_pixel_blocks needs blocks of at least one unit");
+    ML_ASSERT(from >= 0 && from % block == 0, "render_pixel_blocks starts at a block");
+    const int64_t end = to < 0 ? units : std::min(to, units);
     const double start = ctx.elapsed();
     // A resumed render begins at the block its checkpoint stopped in.
-    const int64_t b0 = checkpoint && checkpoint->resuming()
-                           ? std::min(checkpoint->units(), units) / block
-                           : 0,
-                  done0 = b0 * block;
+    const int64_t b0 = std::max(from, checkpoint && checkpoint->resuming()
+                                          ? std::min(checkpoint->units(), end)
+                                          : int64_t(0)) /
+                       block,
+                  done0 = std::min(end, b0 * block);
     int64_t done = done0;
-    for (int64_t b = b0; done < units; ++b) {
+    for (int64_t b = b0; done < end; ++b) {
         if (ctx.time_limit > 0 && done > done0) {
             const double per_unit = (ctx.elapsed() - start) / double(done - done0);
             int64_t go = per_unit <= kRoundTimeShare * (ctx.time_limit - ctx.elapsed()) ? 1 : 0;
@@ -102,7 +105,7 @@ int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t blo
             if (!go) break;
         }
         begin_block(b);
-        const int64_t first = done, n = std::min(block, units - done);
+        const int64_t first = done, n = std::min(block, end - done);
         // (Under a time limit the fraction is the time's, which needs no span.)
         if (ctx.progress && !(ctx.time_limit > 0))
             ctx.progress->set_span(double(first) / double(units),
@@ -146,9 +149,9 @@ int64_t render_rows_from(const RenderContext& ctx, int64_t first, int64_t units,
                                 (std::min(h, y0 + kPixelTile) - y0);
             }
     }
-    // Progress within a round: rows of pixels done, each counted for its units.
-    std::atomic<int64_t> rows_done{0};
-    const double total_rows = double(owned_pixels) / double(w) * double(units);
+    // Progress within a round: pixels done, each counted for its units.
+    std::atomic<int64_t> pixel_units_done{0};
+    const double total_pixel_units = double(owned_pixels) * double(units);
     RoundPlan plan;
     plan.total = units;
     plan.untimed_most = kUntimedRoundSamples;
@@ -183,8 +186,10 @@ int64_t render_rows_from(const RenderContext& ctx, int64_t first, int64_t units,
                     fn(y, x0, x1, u0, u1);
                 }
                 if (ctx.progress) {
-                    int64_t rows = n * (x1 - x0) / w;
-                    report_progress(ctx, double(rows_done.fetch_add(rows) + rows) / total_rows);
+                    // (Pixel units: a tile's row of a round of one unit is less than a row.)
+                    const int64_t done = n * (x1 - x0);
+                    report_progress(
+                        ctx, double(pixel_units_done.fetch_add(done) + done) / total_pixel_units);
                 }
             }
         };

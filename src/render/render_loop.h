@@ -89,12 +89,15 @@ int64_t render_pixels(const RenderContext& ctx, int64_t units,
 // its own (a new VPL set for every pass of samples). Under a time limit a block after the first
 // begins only where the mean time of a unit so far (begin_block's included) fits
 // kRoundTimeShare of the time left; a block the limit cuts short ends the loop. Returns the
-// units done. With a checkpoint, a resumed render begins at the block the checkpoint stopped in
-// (begin_block(b) must make the same state whenever it is called: from the seed and b).
+// units done, counted from 0. With a checkpoint, a resumed render begins at the block the
+// checkpoint stopped in (begin_block(b) must make the same state whenever it is called: from the
+// seed and b). With `from` and `to` (multiples of `block`; to < 0: `units`) it runs the units
+// [from, to) of the loop alone, as a part of it (work of its own between the parts): blocks,
+// units, progress and the checkpoint's units count over the whole loop all the same.
 int64_t render_pixel_blocks(const RenderContext& ctx, int64_t units, int64_t block,
                             const std::function<void(int64_t b)>& begin_block,
                             const std::function<void(Point2i pixel, int64_t u0, int64_t u1)>& fn,
-                            Checkpoint* checkpoint = nullptr);
+                            Checkpoint* checkpoint = nullptr, int64_t from = 0, int64_t to = -1);
 
 // The same loop a row of a tile at a time: fn(y, x0, x1, u0, u1) runs units [u0, u1) of the
 // pixels x0 <= x < x1 of row y (at most 8 of them), in an order of its choosing, for integrators

@@ -476,8 +476,25 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
         m_node_flux = light_node_flux(m_set, m_tree);
     };
+    // A resumed render takes the first run's plan (many_lights.h: read_pass_plan) and figures.
+    Checkpoint* checkpoint = ctx.checkpoint;
+    const nlohmann::json* resumed =
+        checkpoint && checkpoint->resuming() ? &checkpoint->integrator_state() : nullptr;
+    CutCapPlan resumed_plan;
+    int first_set_vpls = 0;
+    const bool planned = resumed && read_pass_plan(*resumed, &resumed_plan, &first_set_vpls);
+    if (planned) m_settings.use_first_set_vpls(first_set_vpls);
     build_set();
+    if (!planned && m_settings.lights.vpl_budget.seconds > 0) first_set_vpls = int(m_set.vpls);
     m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0, m_rests = 0;
+    std::atomic<uint64_t>* counters[] = {&m_pair_sum, &m_pixel_passes, &m_vsps, &m_capped,
+                                         &m_rests};
+    const char* counter_names[] = {"pair_sum", "pixel_passes", "vsps", "capped", "rests"};
+    for (size_t i = 0; resumed && i < std::size(counters); ++i) {
+        if (!resumed->contains(counter_names[i]))
+            throw UsageError("--resume: a damaged checkpoint (no bdlightcuts figures)");
+        *counters[i] = resumed->at(counter_names[i]).get<uint64_t>();
+    }
     ThreadLocal<ThreadState> states([&] {
         SplitWeighting w(m_set, m_weights, m_settings.max_depth);
         w.node_flux = &m_node_flux;
@@ -493,11 +510,20 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     // Under a time limit, the cut cap that lets the first pass end in time (manylight/pilot.h).
     m_pass_samples = m_samples;
     const CutCapPlan cap_plan =
-        plan_pass_cut_cap(ctx, m_max_cut, m_samples, [&](Point2i pixel, int cap, int samples) {
-            return estimate_pass(ctx, states.local(), pixel, 0, cap, samples).pairs;
-        });
+        planned ? resumed_plan
+                : plan_pass_cut_cap(
+                      ctx, m_max_cut, m_samples, [&](Point2i pixel, int cap, int samples) {
+                          return estimate_pass(ctx, states.local(), pixel, 0, cap, samples).pairs;
+                      });
     const int pass_cap = cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, cap_plan);
+    if (checkpoint)
+        checkpoint->set_state([&] {
+            nlohmann::json state = {{"pass_plan", pass_plan_json(cap_plan, first_set_vpls)}};
+            for (size_t i = 0; i < std::size(counters); ++i)
+                state[counter_names[i]] = counters[i]->load();
+            return state;
+        });
     // The cap of the pass being shaded: pass_cap, then the last pass's (manylight/pilot.h).
     int cap = pass_cap;
     // One pixel pass, into the film and the figures.
@@ -538,6 +564,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                   [&](Point2i pixel, int first, int samples) { shade(pixel, first, samples); },
                   last, {}, begin_pass);
     const int done = int(done_passes.whole);
+    if (checkpoint) checkpoint->set_state({});
 
     RenderResult result;
     result.spp = int(done_passes.samples);

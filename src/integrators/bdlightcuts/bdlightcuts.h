@@ -43,6 +43,9 @@ public:
     explicit BdLightcutsIntegrator(const Settings& settings);
     std::string name() const override { return "bdlightcuts"; }
     RenderResult render(const RenderContext& ctx) override;
+    // A pass's set and samples depend on the seed and the pass alone; the checkpoint keeps the
+    // pass plan (cap, samples), adaptive sampling's first pass (sample_shares.h) and the figures.
+    bool can_checkpoint() const override { return true; }
 
     // What a VSP at eye vertex x_j keeps for its pairs' weights.
     struct Vsp {

@@ -77,13 +77,23 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
+    // A resumed render takes the first run's plan (many_lights.h: read_pass_plan) and figures.
+    Checkpoint* checkpoint = ctx.checkpoint;
+    const nlohmann::json* resumed =
+        checkpoint && checkpoint->resuming() ? &checkpoint->integrator_state() : nullptr;
+    CutCapPlan resumed_plan;
+    int first_set_vpls = 0;
+    const bool planned = resumed && read_pass_plan(*resumed, &resumed_plan, &first_set_vpls);
+    if (planned) m_settings.use_first_set_vpls(first_set_vpls);
     check_vpl_memory(m_settings, true, name());
     prepare(ctx.scene);
+    if (!planned && m_settings.lights.vpl_budget.seconds > 0) first_set_vpls = int(m_set.vpls);
     const int w = ctx.film.width(), h = ctx.film.height();
     m_pixel_pairs.assign(size_t(w) * h, 0.f);
     m_pixel_passes_done.assign(m_pixel_pairs.size(), 0);
     m_pair_sum = 0, m_pixel_passes = 0, m_gather_points = 0, m_gather_tree_ns = 0, m_pair_max = 0;
     m_capped = 0;
+    if (resumed) restore_figures(*resumed, m_pixel_pairs.size());
     ThreadLocal<ThreadState> states([&] {
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings));
     });
@@ -97,11 +107,19 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
             }));
     m_pass_samples = m_samples;
     m_cap_plan =
-        plan_pass_cut_cap(ctx, m_max_cut, m_samples, [&](Point2i pixel, int cap, int samples) {
-            return estimate_pass(ctx, states.local(), pixel, 0, cap, samples).pairs;
-        });
+        planned ? resumed_plan
+                : plan_pass_cut_cap(
+                      ctx, m_max_cut, m_samples, [&](Point2i pixel, int cap, int samples) {
+                          return estimate_pass(ctx, states.local(), pixel, 0, cap, samples).pairs;
+                      });
     m_pass_cap = m_cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, m_cap_plan);
+    if (checkpoint)
+        checkpoint->set_state([&] {
+            nlohmann::json state = figures_state();
+            state["pass_plan"] = pass_plan_json(m_cap_plan, first_set_vpls);
+            return state;
+        });
     // Passes of m_pass_samples samples per pixel, in the render loop's rounds (as
     // PixelIntegrator takes samples), and under a time limit a last, smaller one that fills it.
     // The cap of the pass being shaded: m_pass_cap, then the last pass's (manylight/pilot.h).
@@ -122,6 +140,7 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
             if (m_settings.use_set(pass, m_set)) prepare(ctx.scene);
         });
     const int done = int(done_passes.whole);
+    if (checkpoint) checkpoint->set_state({});
 
     RenderResult result;
     result.spp = int(done_passes.samples);
@@ -239,6 +258,32 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(
     out.pairs = pairs;
     out.gather_points = ts.points.size();
     return out;
+}
+
+nlohmann::json MdLightcutsIntegrator::figures_state() const {
+    return {{"pair_sum", m_pair_sum.load()},
+            {"pixel_passes", m_pixel_passes.load()},
+            {"gather_points", m_gather_points.load()},
+            {"gather_tree_ns", m_gather_tree_ns.load()},
+            {"capped", m_capped.load()},
+            {"pair_max", m_pair_max.load()},
+            {"pixel_pairs", to_binary(m_pixel_pairs)},
+            {"pixel_passes_done", to_binary(m_pixel_passes_done)}};
+}
+
+void MdLightcutsIntegrator::restore_figures(const nlohmann::json& state, size_t pixels) {
+    try {
+        m_pair_sum = state.at("pair_sum").get<uint64_t>();
+        m_pixel_passes = state.at("pixel_passes").get<uint64_t>();
+        m_gather_points = state.at("gather_points").get<uint64_t>();
+        m_gather_tree_ns = state.at("gather_tree_ns").get<uint64_t>();
+        m_capped = state.at("capped").get<uint64_t>();
+        m_pair_max = state.at("pair_max").get<int>();
+        m_pixel_pairs = from_binary<float>(state.at("pixel_pairs"), pixels);
+        m_pixel_passes_done = from_binary<uint32_t>(state.at("pixel_passes_done"), pixels);
+    } catch (const std::exception& e) {
+        throw UsageError(std::string("--resume: a damaged checkpoint (") + e.what() + ")");
+    }
 }
 
 nlohmann::json MdLightcutsIntegrator::figures_json(const RenderContext& ctx, int passes) const {

@@ -34,6 +34,9 @@ public:
     explicit MdLightcutsIntegrator(const Settings& settings);
     std::string name() const override { return "mdlightcuts"; }
     RenderResult render(const RenderContext& ctx) override;
+    // A pass's set and samples depend on the seed and the pass alone; the checkpoint keeps the
+    // pass plan (cap, samples) and the figures.
+    bool can_checkpoint() const override { return true; }
 
 private:
     struct ThreadState;
@@ -52,6 +55,9 @@ private:
     void render_pixel_pass(const RenderContext& ctx, ThreadState& ts, Point2i pixel, int first,
                            int samples) const;
     nlohmann::json figures_json(const RenderContext& ctx, int passes) const;
+    // The figures' sums, as a checkpoint keeps them, and back.
+    nlohmann::json figures_state() const;
+    void restore_figures(const nlohmann::json& state, size_t pixels);
 
     ManyLightSettings m_settings;
     // Defaults: bench/RESULTS.md, "Issue 13: the defaults".
