@@ -106,7 +106,17 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
                 fail("PLY header line {}: byte {} is not ASCII text", line_no, int(c));
         }
         auto w = split_words(line);
-        if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+        if (!w.empty() && w[0] == "obj_info") {
+            // OpenMesh's reader takes an obj_info line's words as the header's own (only
+            // comments are skipped whole), and loops forever on an `element` it cannot read.
+            for (size_t k = 1; k < w.size(); ++k)
+                if (w[k] == "ply" || w[k] == "format" || w[k] == "element" || w[k] == "property" ||
+                    w[k] == "comment" || w[k] == "obj_info" || w[k] == "end_header")
+                    fail("PLY header line {}: the header keyword \"{}\" inside obj_info", line_no,
+                         w[k]);
+            continue;
+        }
+        if (w.empty() || w[0] == "comment") continue;
         if (w[0] == "end_header") break;
         if (w[0] == "format") {
             if (have_format) fail("PLY header line {}: a second format line", line_no);
