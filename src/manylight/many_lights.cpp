@@ -310,6 +310,15 @@ bool read_pass_plan(const nlohmann::json& state, CutCapPlan* plan, int* first_se
     return true;
 }
 
+ResumedPasses resume_passes(const RenderContext& ctx, ManyLightSettings& settings) {
+    ResumedPasses r;
+    if (!ctx.checkpoint || !ctx.checkpoint->resuming()) return r;
+    r.state = &ctx.checkpoint->integrator_state();
+    r.planned = read_pass_plan(*r.state, &r.plan, &r.first_set_vpls);
+    if (r.planned) settings.use_first_set_vpls(r.first_set_vpls);
+    return r;
+}
+
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct) {
     nlohmann::json j = {{"point_light_seconds", set.seconds},
                         {"omni", set.omni},

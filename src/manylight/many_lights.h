@@ -125,6 +125,17 @@ nlohmann::json cut_cap_json(const CutCapPlan& plan);
 // read_pass_plan returns false where `state` has none, throws UsageError where it is damaged.
 nlohmann::json pass_plan_json(const CutCapPlan& plan, int first_set_vpls);
 bool read_pass_plan(const nlohmann::json& state, CutCapPlan* plan, int* first_set_vpls);
+// What a render resuming from ctx's checkpoint takes again (mdlightcuts, bdlightcuts): the
+// integrator's saved state (null where it does not resume) and its pass plan (`planned` false
+// where there is none). Where there is one, `settings` takes its first set's VPL count
+// (use_first_set_vpls).
+struct ResumedPasses {
+    const nlohmann::json* state = nullptr;
+    bool planned = false;
+    CutCapPlan plan;
+    int first_set_vpls = 0;
+};
+ResumedPasses resume_passes(const RenderContext& ctx, ManyLightSettings& settings);
 // The --stats figures of the point-light set and the sampled direct light (build time, lights
 // by kind, light paths, direct-light mode), as lightcuts and mdlightcuts report them.
 nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectLight& direct);

@@ -478,12 +478,11 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     };
     // A resumed render takes the first run's plan (many_lights.h: read_pass_plan) and figures.
     Checkpoint* checkpoint = ctx.checkpoint;
-    const nlohmann::json* resumed =
-        checkpoint && checkpoint->resuming() ? &checkpoint->integrator_state() : nullptr;
-    CutCapPlan resumed_plan;
-    int first_set_vpls = 0;
-    const bool planned = resumed && read_pass_plan(*resumed, &resumed_plan, &first_set_vpls);
-    if (planned) m_settings.use_first_set_vpls(first_set_vpls);
+    const ResumedPasses resumed_passes = resume_passes(ctx, m_settings);
+    const nlohmann::json* resumed = resumed_passes.state;
+    const bool planned = resumed_passes.planned;
+    const CutCapPlan& resumed_plan = resumed_passes.plan;
+    int first_set_vpls = resumed_passes.first_set_vpls;
     build_set();
     if (!planned && m_settings.lights.vpl_budget.seconds > 0) first_set_vpls = int(m_set.vpls);
     m_pair_sum = 0, m_pixel_passes = 0, m_vsps = 0, m_capped = 0, m_rests = 0;

@@ -79,12 +79,11 @@ RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_time_limit(ctx, true);
     // A resumed render takes the first run's plan (many_lights.h: read_pass_plan) and figures.
     Checkpoint* checkpoint = ctx.checkpoint;
-    const nlohmann::json* resumed =
-        checkpoint && checkpoint->resuming() ? &checkpoint->integrator_state() : nullptr;
-    CutCapPlan resumed_plan;
-    int first_set_vpls = 0;
-    const bool planned = resumed && read_pass_plan(*resumed, &resumed_plan, &first_set_vpls);
-    if (planned) m_settings.use_first_set_vpls(first_set_vpls);
+    const ResumedPasses resumed_passes = resume_passes(ctx, m_settings);
+    const nlohmann::json* resumed = resumed_passes.state;
+    const bool planned = resumed_passes.planned;
+    const CutCapPlan& resumed_plan = resumed_passes.plan;
+    int first_set_vpls = resumed_passes.first_set_vpls;
     check_vpl_memory(m_settings, true, name());
     prepare(ctx.scene);
     if (!planned && m_settings.lights.vpl_budget.seconds > 0) first_set_vpls = int(m_set.vpls);
