@@ -151,9 +151,11 @@ TEST(MixMaterial, RendersTheBlendOfItsMaterials) {
 }
 
 // Disabled: path and bdpt agree with each other (0.784 and 0.778) but not with this expectation
-// (0.701), also with the sheet 300 units wide; whether the expectation misses a term or the
-// sheet's transport is wrong is not found yet. The sheet's reflectance and transmittance alone
-// are checked against the Fresnel series above.
+// (0.701). pbrt-v4 (5f7a606) renders this very scene at 4096 spp to 0.7826 at max depth 3 (ours
+// 0.7827), 0.8081 at 5 and 0.8089 at 20 (ours 0.8084 and 0.8092): the expectation, not the
+// transport, misses a term, not found yet. The sheet's reflectance and transmittance alone are
+// checked against the Fresnel series above, and its images against pbrt-v4's in
+// PbrtReference.ThinDielectricMaterial.
 TEST(ThinDielectric, DISABLED_ReflectsAndPassesTheSkyAsItsFresnelSeriesSays) {
     // A thin sheet (eta 1.5) at height 1 over a quad of albedo 0.8, under a uniform sky of
     // radiance 1, seen from straight above through it, at max depth 3. The camera sees the sky
