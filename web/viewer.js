@@ -20,7 +20,7 @@
   };
 
   let view = null, home = null, pending = null, meta = null;
-  let frames = 0, lastFrameTime = 0, fps = 0;
+  let frames = 0, movingFrames = 0, lastFrameTime = 0, fps = 0;
   document.body.dataset.frames = '0';
   const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
   const ws = new WebSocket(`${proto}//${location.host}/ws`);
@@ -59,6 +59,7 @@
       if (lastFrameTime && meta.mode === 'moving') fps = 0.8 * fps + 0.2 * (1000 / (now - lastFrameTime));
       lastFrameTime = now;
       frames += 1;
+      if (meta.mode === 'moving') movingFrames += 1;
       $('mode').textContent = meta.mode + (meta.mode === 'moving' ? ' (igi)' : ` (${meta.integrator})`);
       $('frame-ms').textContent = meta.frame_ms.toFixed(1);
       $('fps').textContent = fps ? fps.toFixed(1) : '–';
@@ -66,6 +67,7 @@
       $('progress').value = meta.progress;
       if (meta.command) $('command').textContent = meta.command;
       document.body.dataset.frames = String(frames);
+      document.body.dataset.movingFrames = String(movingFrames);
       document.body.dataset.mode = meta.mode;
       document.body.dataset.frameMs = String(meta.frame_ms);
       meta = null;
