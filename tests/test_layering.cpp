@@ -28,7 +28,7 @@ const std::vector<std::vector<std::string>> kLayers = {
     {"sampling", "distributed"},  // samplers and warps; MPI's world (mpirun's ranks)
     {"geometry"},                 // meshes, shapes, Embree
     {"camera", "film"},           // rays from the lens; pixels, filters, images
-    {"materials"},                // BSDFs and textures
+    {"materials", "media"},       // BSDFs and textures; participating media
     {"lights"},                   // light sources and what they become as point lights
     {"scene"},                    // pbrt-v4 parsing and the assembled scene
     {"render", "transport"},      // the integrator interface and render loop; light transport

@@ -46,6 +46,9 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
         add("filename", "\"string filename\" \"" + dir + "/tri.ply\"");
     } else if (d.rfind("Texture", 0) == 0 && t == "imagemap") {
         add("filename", "\"string filename\" \"" + dir + "/tex.exr\"");
+    } else if (d == "MakeNamedMedium" && t == "uniformgrid") {
+        add("density", "\"float density\" [ 1 0.5 ]");
+        add("nx", "\"integer nx\" [ 2 ]");
     } else if (d == "Material" && t == "mix") {
         add("materials", "\"string materials\" [ \"ma\" \"mb\" ]");
     } else if (d == "Film") {
@@ -69,6 +72,8 @@ std::string scene_for(const PbrtParam& row, const std::string& dir, const std::s
     else if (d == "AreaLightSource")
         line = "AttributeBegin\nAreaLightSource \"" + std::string(row.type) + "\"" + params +
                "\nShape \"sphere\"\nAttributeEnd";
+    else if (d == "MakeNamedMedium")
+        line = "MakeNamedMedium \"m\" \"string type\" \"" + std::string(row.type) + "\"" + params;
     else
         line = d + " \"" + row.type + "\"" + params;
     std::string text = "LookAt 0 0 5  0 0 0  0 1 0\n";

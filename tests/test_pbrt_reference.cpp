@@ -69,3 +69,5 @@ TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
+TEST(PbrtReference, HomogeneousFogUnderASpotLight) { expect_matches_pbrt("media_fog"); }
+TEST(PbrtReference, GridMediumBehindInterfaces) { expect_matches_pbrt("media_grid"); }

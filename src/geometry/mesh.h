@@ -12,6 +12,7 @@ namespace ml {
 
 class Material;
 class Light;
+class Medium;
 
 // A cut-out (pbrt-v4's "alpha" on a shape): at a point of the surface, the probability that the
 // surface is there. Given by the scene layer (a float texture); geometry only evaluates it.
@@ -34,6 +35,12 @@ struct TriangleMesh {
     // Null: opaque. Else every ray (camera, bounce and shadow rays alike) passes through the
     // surface where the mask is 0, and with probability 1 - alpha where it is fractional.
     std::shared_ptr<const AlphaMask> alpha;
+    // A boundary between two media (pbrt-v4's MediumInterface with two different media): a ray
+    // leaving the surface on the side of the geometric normal is in `medium_outside`, else in
+    // `medium_inside` (null: vacuum). Elsewhere a ray keeps the medium it was in.
+    bool medium_interface = false;
+    const Medium* medium_inside = nullptr;
+    const Medium* medium_outside = nullptr;
     // Motion (a shape under an animated transform): the positions and normals at
     // motion_steps >= 2 times spread evenly over the transform times, step after step
     // (motion_p[k * p.size() + v]); between two steps each vertex moves linearly (Embree's

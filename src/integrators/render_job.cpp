@@ -189,6 +189,16 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     auto integrator = info->create(settings);
     settings.check_unused();
     validate(opt.bias_check);
+    // Participating media: so far only `path` carries light through them.
+    if (has_media(desc)) {
+        if (name != "path")
+            throw UsageError(fmt::format(
+                "integrator \"{}\" does not render participating media yet (the scene has "
+                "MakeNamedMedium/MediumInterface); render it with --integrator path",
+                name));
+        if (bias_check_enabled(opt.bias_check, name))
+            throw UsageError("--bias-check does not handle participating media yet");
+    }
     if (bias_check_enabled(opt.bias_check, name))
         plan.max_depth =
             settings.has("maxdepth") ? settings.get_int("maxdepth", 5) : default_max_depth(*info);

@@ -185,7 +185,15 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         }
         return std::make_unique<MixMaterial>(m[0], m[1], mp.get_float("amount", 0.5f));
     }
-    for (const char* pbrt : {"coatedconductor", "hair", "measured", "subsurface", "interface"})
+    if (type == "interface") {
+        // A medium boundary that does not scatter: the volumetric path tracer passes through it.
+        struct InterfaceMaterial final : Material {
+            Bsdf get_bsdf(const SurfaceInteraction&, ScratchBuffer&) const override { return {}; }
+            std::string type() const override { return "interface"; }
+        };
+        return std::make_unique<InterfaceMaterial>();
+    }
+    for (const char* pbrt : {"coatedconductor", "hair", "measured", "subsurface"})
         if (type == pbrt)
             throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
                               type);

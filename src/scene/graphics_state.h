@@ -33,6 +33,10 @@ struct GraphicsState {
     bool reverse_orientation = false;
     const Material* material = nullptr;  // null: the default material
     std::shared_ptr<const AreaLightSpec> area_light;
+    // `MediumInterface "inside" "outside"`: the media named for the shapes (and the camera)
+    // that follow; empty: vacuum.
+    std::string inside_medium, outside_medium;
+    FileLoc medium_loc;  // where they were set
     // `Attribute "shape"|"light"|"material"|"texture" params`: defaults for those directives.
     std::map<std::string, ParameterList> attributes;
 };
@@ -69,6 +73,7 @@ struct ShapeRecord {
     std::shared_ptr<const AreaLightSpec> area_light;  // null: does not emit
     FileLoc loc;                                      // the Shape or ObjectInstance directive
     std::shared_ptr<const AlphaMask> alpha;           // "alpha": null where opaque
+    std::string inside_medium, outside_medium;        // MediumInterface at the shape
 };
 
 // ObjectBegin ... ObjectEnd: shapes relative to the CTM at each ObjectInstance.

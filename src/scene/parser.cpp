@@ -382,8 +382,15 @@ void Parser::directive(const Token& t) {
             syntax_error(v, "Option expects a value after its name");
         b.option(n, std::string(v.kind == TokenKind::String ? v.value() : v.raw),
                  v.kind == TokenKind::String, loc);
-    } else if (d == "MakeNamedMedium" || d == "MediumInterface") {
-        throw_input_error(loc, "the pbrt-v4 directive \"{}\" is not supported by manylight", name);
+    } else if (d == "MakeNamedMedium") {
+        std::string n = expect_string(t, "medium name");
+        b.make_named_medium(n, parse_params(loc), loc);
+    } else if (d == "MediumInterface") {
+        // One name: both sides; two: inside, then outside.
+        std::string inside = expect_string(t, "medium name");
+        std::string outside = inside;
+        if (peek().kind == TokenKind::String) outside = expect_string(t, "outside medium name");
+        b.medium_interface(inside, outside, loc);
     } else {
         double v;
         if (parse_number(d, &v))

@@ -8,7 +8,9 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
     for (const auto& m : m_desc.meshes) {
         meshes.push_back(m.get());
         m_moves = m_moves || m->moves();
+        m_has_media = m_has_media || m->medium_interface;
     }
+    m_has_media = m_has_media || m_desc.camera_medium;
     m_embree = std::make_unique<EmbreeScene>(meshes, m_desc.transform_start_time,
                                              m_desc.transform_end_time);
     m_bounds = m_embree->bounds();

@@ -263,6 +263,8 @@ void SceneBuilder::camera(const std::string& name, ParameterList params, const F
     m_desc.world_to_camera = m_state.ctm[0];
     m_desc.world_to_camera_end = m_state.ctm[1];
     m_named_frames["camera"] = {m_state.ctm[0].inverse(), m_state.ctm[1].inverse()};
+    m_camera_medium = m_state.outside_medium;
+    m_camera_medium_loc = m_state.medium_loc;
     entity(&SceneDesc::camera, name, std::move(params), loc);
 }
 
@@ -421,7 +423,9 @@ void SceneBuilder::add_shape(size_t source, std::shared_ptr<const AlphaMask> alp
                   m_state.material,
                   m_state.area_light,
                   loc,
-                  std::move(alpha)};
+                  std::move(alpha),
+                  m_state.inside_medium,
+                  m_state.outside_medium};
     if (m_current_object) {
         // As pbrt-v4: area lights are ignored inside object instances.
         r.area_light = nullptr;
@@ -495,6 +499,38 @@ void SceneBuilder::light_source(const std::string& type, const ParameterList& pa
     m_desc.lights.push_back(std::move(light));
 }
 
+void SceneBuilder::make_named_medium(const std::string& name, const ParameterList& params,
+                                     const FileLoc& loc) {
+    if (m_named_media.count(name)) throw_input_error(loc, "medium \"{}\" is defined twice", name);
+    if (ctm_animated())
+        throw_input_error(loc,
+                          "MakeNamedMedium \"{}\" under an animated transform: moving "
+                          "media are not supported",
+                          name);
+    const std::string type = params.get_string("type", "");
+    if (type.empty()) throw_input_error(loc, "MakeNamedMedium \"{}\" has no \"string type\"", name);
+    auto medium = create_medium(type, params, m_state.ctm[0], loc);
+    params.check_unused();
+    m_named_media[name] = medium.get();
+    m_desc.media.push_back(std::move(medium));
+}
+
+void SceneBuilder::medium_interface(const std::string& inside, const std::string& outside,
+                                    const FileLoc& loc) {
+    m_state.inside_medium = inside;
+    m_state.outside_medium = outside;
+    m_state.medium_loc = loc;
+}
+
+const Medium* SceneBuilder::find_medium(const std::string& name, const FileLoc& loc) const {
+    if (name.empty()) return nullptr;
+    auto it = m_named_media.find(name);
+    if (it == m_named_media.end())
+        throw_input_error(loc, "medium \"{}\" is not defined (no MakeNamedMedium of that name)",
+                          name);
+    return it->second;
+}
+
 void SceneBuilder::area_light_source(const std::string& type, ParameterList params,
                                      const FileLoc& loc) {
     m_state.area_light =
@@ -512,6 +548,13 @@ SceneDesc SceneBuilder::finish() {
     m_loads.wait();
     for (const MeshSource& s : m_sources)
         if (s.error) std::rethrow_exception(s.error);
+
+    // Media by name, now that every MakeNamedMedium is known (pbrt-v4 allows them after use).
+    m_desc.camera_medium = find_medium(m_camera_medium, m_camera_medium_loc);
+    std::vector<std::pair<const Medium*, const Medium*>> shape_media(m_shapes.size());
+    for (size_t i = 0; i < m_shapes.size(); ++i)
+        shape_media[i] = {find_medium(m_shapes[i].inside_medium, m_shapes[i].loc),
+                          find_medium(m_shapes[i].outside_medium, m_shapes[i].loc)};
 
     // Shapes with no material get the default one, created only when needed.
     for (ShapeRecord& r : m_shapes)
@@ -551,6 +594,12 @@ SceneDesc SceneBuilder::finish() {
             transform_mesh(*mesh, r.instance[0] * r.to_world[0], r.reverse_orientation);
         mesh->material = r.material;
         mesh->alpha = r.alpha;
+        // As pbrt-v4: only a shape between two different media changes a ray's medium.
+        if (r.inside_medium != r.outside_medium) {
+            mesh->medium_interface = true;
+            mesh->medium_inside = shape_media[i].first;
+            mesh->medium_outside = shape_media[i].second;
+        }
         m_desc.meshes[i] = std::move(mesh);
     });
 

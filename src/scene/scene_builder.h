@@ -79,6 +79,12 @@ public:
     void shape(const std::string& type, const ParameterList& params, const FileLoc& loc);
     void light_source(const std::string& type, const ParameterList& params, const FileLoc& loc);
     void area_light_source(const std::string& type, ParameterList params, const FileLoc& loc);
+    // `MakeNamedMedium name "string type" ...` (the CTM is the medium's space) and
+    // `MediumInterface inside [outside]` (one name: both sides).
+    void make_named_medium(const std::string& name, const ParameterList& params,
+                           const FileLoc& loc);
+    void medium_interface(const std::string& inside, const std::string& outside,
+                          const FileLoc& loc);
 
     // Checks that every scope was closed, reads the PLY files (in parallel), moves meshes to
     // world space and creates the area lights. Call once, at the end of the input.
@@ -98,6 +104,10 @@ private:
     bool m_in_world = false;
     std::map<std::string, std::array<Transform, 2>> m_named_frames;
     std::map<std::string, const Material*> m_named_materials;
+    std::map<std::string, const Medium*> m_named_media;
+    std::string m_camera_medium;  // the outside medium's name at the Camera directive
+    FileLoc m_camera_medium_loc;
+    const Medium* find_medium(const std::string& name, const FileLoc& loc) const;
     const Material* m_default_material = nullptr;
     ImageCache m_images;
     // A deque: PLY reads running in m_loads hold pointers to their sources while more are added.

@@ -13,6 +13,7 @@
 #include "lights/light.h"
 #include "materials/material.h"
 #include "materials/texture.h"
+#include "media/medium.h"
 
 namespace ml {
 
@@ -35,9 +36,20 @@ struct SceneDesc {
     std::vector<std::unique_ptr<TriangleMesh>> meshes;
     std::vector<std::unique_ptr<Material>> materials;  // owned; meshes point into them
     std::vector<std::unique_ptr<Light>> lights;        // every light, area lights included
+    std::vector<std::unique_ptr<Medium>> media;        // MakeNamedMedium; meshes point into them
+    const Medium* camera_medium = nullptr;             // the outside medium at the Camera directive
     NamedTextures textures;
     std::string base_dir;  // directory of the main scene file
 };
+
+// Whether light meets a participating medium: the camera's, or one behind a shape's
+// MediumInterface.
+inline bool has_media(const SceneDesc& desc) {
+    if (desc.camera_medium) return true;
+    for (const auto& m : desc.meshes)
+        if (m->medium_interface) return true;
+    return false;
+}
 
 // Parses a pbrt-v4 scene file (and what it includes). Throws InputError with file:line:col.
 SceneDesc parse_scene_file(const std::string& path);

@@ -2,6 +2,7 @@
 
 #include "transport/direct_lighting.h"
 #include "transport/path_tracer.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -49,6 +50,9 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
 }
 
 RenderResult PathIntegrator::render(const RenderContext& ctx) {
+    if (m_guiding && ctx.scene.has_media())
+        throw UsageError(
+            "path: guiding does not handle participating media yet (path.guiding=off)");
     return m_guiding ? render_guided(ctx) : PixelIntegrator::render(ctx);
 }
 
@@ -65,6 +69,8 @@ RGB PathIntegrator::li(const Ray& camera_ray, const Scene& scene, Sampler& sampl
 
 RGB PathIntegrator::trace(const Ray& camera_ray, const Scene& scene, Sampler& sampler,
                           ScratchBuffer& scratch, const PathTraceOptions& options) const {
+    if (scene.has_media())
+        return trace_volumetric(scene, camera_ray, sampler, scratch, *m_light_sampler, options);
     SurfaceInteraction si;
     bool hit = scene.intersect(camera_ray, &si);
     RGB L = emission_along(scene, camera_ray, hit ? &si : nullptr, true, 0.f, {},

@@ -1,0 +1,252 @@
+#include "transport/volume_path.h"
+
+#include <cmath>
+
+#include "materials/material.h"
+#include "transport/direct_lighting.h"
+#include "transport/mis.h"
+#include "transport/spawn.h"
+
+namespace ml {
+
+namespace {
+
+// A ray with a unit direction, and the length its parameter had per unit: media work in
+// world distances.
+struct UnitRay {
+    Ray ray;
+    float tmax;
+};
+UnitRay unit_ray(const Ray& r, float tmax) {
+    const float len = length(r.d);
+    return {Ray{r.o, r.d / len, kInfinity, r.time}, tmax * len};
+}
+
+float channel_mean(const RGB& c) { return (c.r + c.g + c.b) / 3; }
+
+RGB exp_neg(const RGB& x) {
+    auto e = [](float v) { return v > 0 ? std::exp(-v) : 1.f; };
+    return RGB(e(x.r), e(x.g), e(x.b));
+}
+
+enum class Event { Pass, Scatter, Absorb };
+struct Tracked {
+    Event event = Event::Pass;
+    float t = 0;  // distance of the event along the unit ray
+};
+
+// Delta tracking with spectral tracking's probabilities from `ray` (unit) to tmax through `m`:
+// updates the throughput `beta` and adds the medium's emission, times beta, to L where
+// `emission` is set (the path may still gain a vertex).
+Tracked track(const Medium& m, const Ray& ray, float tmax, Sampler& sampler, RGB* beta, RGB* L,
+              bool emission) {
+    const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
+    if (!seg || !(seg->sigma_maj > 0)) return {};
+    const float sigma_maj = seg->sigma_maj;
+    float t = seg->t0;
+    for (;;) {
+        t -= std::log1p(-sampler.get_1d()) / sigma_maj;
+        if (!(t < seg->t1)) return {};
+        const MediumProperties mp = m.at(ray.at(t));
+        if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
+        const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
+        const float pa = channel_mean(*beta * mp.sigma_a), ps = channel_mean(*beta * mp.sigma_s),
+                    pn = channel_mean(*beta * sigma_n);
+        const float c = pa + ps + pn;
+        if (!(c > 0)) return {Event::Absorb, t};
+        const float u = sampler.get_1d() * c;
+        if (u < pa) return {Event::Absorb, t};
+        if (u < pa + ps) {
+            *beta *= mp.sigma_s * (c / (ps * sigma_maj));
+            return {Event::Scatter, t};
+        }
+        *beta *= sigma_n * (c / (pn * sigma_maj));
+        if (beta->is_black()) return {Event::Absorb, t};
+    }
+}
+
+// The transmittance of `m` along the unit `ray` up to tmax: closed form where it is
+// homogeneous, else ratio tracking (with Russian roulette once it is small).
+RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& sampler) {
+    const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
+    if (!seg || !(seg->sigma_maj > 0)) return RGB(1.f);
+    if (m.homogeneous()) {
+        const MediumProperties mp = m.at(ray.o);
+        return exp_neg((mp.sigma_a + mp.sigma_s) * (seg->t1 - seg->t0));
+    }
+    RGB tr(1.f);
+    float t = seg->t0;
+    for (;;) {
+        t -= std::log1p(-sampler.get_1d()) / seg->sigma_maj;
+        if (!(t < seg->t1)) return tr;
+        const MediumProperties mp = m.at(ray.at(t));
+        tr *= clamp_zero(RGB(1.f) - (mp.sigma_a + mp.sigma_s) / seg->sigma_maj);
+        const float mx = tr.max_component();
+        if (!(mx > 0)) return RGB();
+        if (mx < 0.1f) {
+            if (sampler.get_1d() < 0.5f) return RGB();
+            tr *= 2.f;
+        }
+    }
+}
+
+// One light sample towards a scattering point `ctx.p` (moved by `offset` off its surface; zero
+// in a medium), weighed by MIS against the point's own direction sampling: f_pdf(wi) gives the
+// scattering function (times the cosine at a surface) and that sampling's density of wi, and
+// medium_for(wi) the medium a ray towards wi starts in. Divided by the light's pmf.
+template <class FPdf, class MediumFor>
+RGB sample_direct(const Scene& scene, const LightSampleContext& ctx, const Vec3& offset, float time,
+                  const LightSampler& light_sampler, Sampler& sampler, const FPdf& f_pdf,
+                  const MediumFor& medium_for) {
+    const float u_select = sampler.get_1d();
+    const Vec2 u_light = sampler.get_2d();
+    const auto sl = light_sampler.sample(ctx, u_select);
+    if (!sl) return RGB();
+    LightSampleContext incomplete = ctx;
+    incomplete.allow_incomplete_pdf = true;
+    const auto ls = sl->light->sample_li(incomplete, u_light);
+    if (!ls || ls->L.is_black() || !(ls->pdf_solid_angle > 0)) return RGB();
+    const auto [f, pdf_dir] = f_pdf(ls->wi);
+    if (f.is_black()) return RGB();
+    const RGB tr = transmittance(scene, ctx.p, offset, ls->p_light, ls->offset(),
+                                 medium_for(ls->wi), time, sampler);
+    if (tr.is_black()) return RGB();
+    const float light_pdf = sl->pmf * ls->pdf_solid_angle;
+    const float w = is_delta_light(sl->light->type()) ? 1.f : power_heuristic(light_pdf, pdf_dir);
+    return f * ls->L * tr * (w / light_pdf);
+}
+
+}  // namespace
+
+const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current) {
+    if (!si.mesh || !si.mesh->medium_interface) return current;
+    return dot(w, si.ng) > 0 ? si.mesh->medium_outside : si.mesh->medium_inside;
+}
+
+bool is_interface(const SurfaceInteraction& si) {
+    return si.material && si.material->type() == "interface";
+}
+
+RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset, const Vec3& to,
+                  const Vec3& to_offset, const Medium* medium, float time, Sampler& sampler) {
+    RGB tr(1.f);
+    Vec3 o = from, o_offset = from_offset;
+    // Each interface crossed starts a new segment; a scene of nested boundaries crosses a few.
+    for (int crossing = 0; crossing < 256; ++crossing) {
+        const Ray seg = segment_ray(o, o_offset, to, to_offset, time);
+        SurfaceInteraction hit;
+        const bool blocked = scene.intersect(seg, &hit);
+        if (blocked && !is_interface(hit)) return RGB();
+        if (medium) {
+            const UnitRay u = unit_ray(seg, blocked ? hit.t : seg.tmax);
+            tr *= medium_transmittance(*medium, u.ray, u.tmax, sampler);
+            if (tr.is_black()) return RGB();
+        }
+        if (!blocked) return tr;
+        medium = medium_after(hit, seg.d, medium);
+        o = hit.p;
+        o_offset = hit.offset();
+    }
+    return RGB();
+}
+
+RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler,
+                     ScratchBuffer& scratch, const LightSampler& light_sampler,
+                     const PathTraceOptions& options) {
+    RGB L, beta(1.f);
+    const Medium* medium = scene.camera_medium();
+    Ray ray = camera_ray;
+    int depth = 0;                  // scattering vertices so far, surface and medium alike
+    bool specular_bounce = true;    // the camera ray, or a delta lobe: emission counts whole
+    float prev_pdf = 0;             // the density of the last scattering direction
+    LightSampleContext prev_ctx{};  // the point it left from
+    float eta_scale = 1;
+    // Russian roulette after a vertex's scattering sample; false: the path ends.
+    auto survive = [&] {
+        const float rr = (beta * eta_scale).max_component();
+        const float u = sampler.get_1d();
+        if (rr < 1.f && depth >= options.rr_depth) {
+            const float q = std::max(0.f, 1.f - rr);
+            if (u < q) return false;
+            beta = beta / (1.f - q);
+        }
+        return !beta.is_black() && beta.is_finite();
+    };
+    for (int crossings = 0; crossings < 4096; ++crossings) {
+        SurfaceInteraction si;
+        const bool hit = scene.intersect(ray, &si);
+
+        // 1. The medium between the ray's origin and the surface (or infinity).
+        if (medium) {
+            const UnitRay u = unit_ray(ray, hit ? si.t : kInfinity);
+            const Tracked ev =
+                track(*medium, u.ray, u.tmax, sampler, &beta, &L, depth < options.max_depth);
+            if (ev.event == Event::Absorb) break;
+            if (ev.event == Event::Scatter) {
+                if (depth++ >= options.max_depth) break;
+                const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
+                const float g = medium->g();
+                const LightSampleContext ctx{p, Vec3(), Vec3()};
+                const Medium* here = medium;
+                L += beta * sample_direct(
+                                scene, ctx, Vec3(), ray.time, light_sampler, sampler,
+                                [&](const Vec3& wi) {
+                                    const float ph = hg_phase(wo, wi, g);
+                                    return std::pair<RGB, float>(RGB(ph), ph);
+                                },
+                                [&](const Vec3&) { return here; });
+                const Vec3 wi = sample_hg_phase(wo, g, sampler.get_2d());
+                // The phase function is its own density: the throughput keeps its value.
+                prev_pdf = hg_phase(wo, wi, g);
+                prev_ctx = ctx;
+                specular_bounce = false;
+                ray = Ray{p, wi, kInfinity, ray.time};
+                if (!survive()) break;
+                continue;
+            }
+        }
+
+        // 2. The surface (or the sky): its emission, weighed against the last light sample.
+        L += beta * emission_along(scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf,
+                                   prev_ctx, &light_sampler);
+        if (!hit) break;
+        if (is_interface(si)) {
+            // A medium boundary only: the ray goes on, in the medium beyond.
+            medium = medium_after(si, ray.d, medium);
+            ray = Ray{si.offset_origin(ray.d), ray.d, kInfinity, ray.time};
+            continue;
+        }
+        if (depth >= options.max_depth) break;
+        ++depth;
+        Bsdf bsdf = hit_bsdf(si, scratch);
+        if (!bsdf) break;
+
+        // 3. Next-event estimation through the media, then the BSDF's direction.
+        if (bsdf.has_nonspecular()) {
+            const Medium* arrived = medium;
+            L += beta *
+                 sample_direct(
+                     scene, light_context(si), si.offset(), si.time, light_sampler, sampler,
+                     [&](const Vec3& wi) {
+                         return std::pair<RGB, float>(bsdf.eval(si.wo, wi) * abs_dot(wi, si.ns),
+                                                      bsdf.pdf_solid_angle(si.wo, wi));
+                     },
+                     [&](const Vec3& wi) { return medium_after(si, wi, arrived); });
+        }
+        const float uc = sampler.get_1d();
+        const Vec2 u = sampler.get_2d();
+        const auto bs = bsdf.sample(si.wo, uc, u);
+        if (!bs) break;
+        beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+        specular_bounce = bs->is_specular();
+        prev_pdf = bs->pdf_solid_angle;
+        prev_ctx = light_context(si);
+        if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
+        medium = medium_after(si, bs->wi, medium);
+        ray = spawn_ray(si, bs->wi);
+        if (!survive()) break;
+    }
+    return L;
+}
+
+}  // namespace ml

@@ -1,0 +1,47 @@
+// Light transport through participating media (pbrt-v4's VolPathIntegrator, in RGB): the path
+// tracer's vertex loop where a ray may scatter, be absorbed or pass on inside a medium before it
+// reaches a surface.
+//
+// Distances are drawn by delta tracking against each medium's majorant, with spectral tracking
+// for coloured media (Kutz et al. 2017): at each tentative collision the event (absorption,
+// scattering, or a null collision that continues) is chosen with probabilities proportional to
+// the throughput-weighted coefficients, and the throughput takes the ratio of the coefficient to
+// its probability, so every channel stays unbiased. Emission in a medium is gathered at every
+// tentative collision. Shadow rays pass through "interface" surfaces, their transmittance
+// computed in closed form in homogeneous media and by ratio tracking elsewhere. Next-event
+// estimation at surface and medium vertices is weighed by MIS against BSDF or phase sampling
+// (the power heuristic on the directions' densities; the transmittance is common to both).
+//
+// Every random number comes from the sampler, one dimension per draw.
+#pragma once
+
+#include "core/scratch.h"
+#include "lights/light_sampler.h"
+#include "media/medium.h"
+#include "sampling/sampler.h"
+#include "scene/scene.h"
+#include "transport/path_tracer.h"
+
+namespace ml {
+
+// The radiance along `camera_ray`, which starts in the camera's medium: every path up to
+// options.max_depth scattering vertices (surface and medium alike). Path guiding and
+// all_lights are not used here.
+RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler,
+                     ScratchBuffer& scratch, const LightSampler& light_sampler,
+                     const PathTraceOptions& options);
+
+// The medium a ray leaving surface point `si` along w is in, `current` being the one the path
+// arrived in: the inside or outside of a medium boundary, else unchanged.
+const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current);
+
+// True where the surface only marks a medium boundary (pbrt-v4's "interface" material): rays
+// pass through it unchanged.
+bool is_interface(const SurfaceInteraction& si);
+
+// The transmittance from `from` (moved by from_offset off its surface; zero in a medium) to `to`
+// (moved by to_offset), starting in `medium`: through interface surfaces, zero at any other.
+RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset, const Vec3& to,
+                  const Vec3& to_offset, const Medium* medium, float time, Sampler& sampler);
+
+}  // namespace ml

@@ -1,0 +1,194 @@
+// Participating media: the Henyey-Greenstein phase function's sampling against its density,
+// `path` through media against closed forms (Beer's law through an absorbing medium seen
+// directly and through a slab bounded by interface surfaces, for the camera's rays and for
+// the shadow rays; a scattering-only medium in a white furnace is 1 whatever its colour, phase
+// function and density), and the refusals of what is not supported yet.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "chi2.h"
+#include "media/medium.h"
+#include "parser_test_helpers.h"
+#include "render_helpers.h"
+
+using namespace ml;
+using namespace ml::test;
+
+namespace {
+
+// Within 4 standard errors of `expected`, and within `rel` of it (a loose check that catches a
+// wrong answer whose noise is large too).
+void expect_channel(const Image& img, int c, double expected, double rel) {
+    const ChannelStats s = channel_stats(img, c);
+    EXPECT_NEAR(s.mean, expected, 4 * s.stderr_of_mean + 1e-6)
+        << "channel " << c << " (standard error " << s.stderr_of_mean << ")";
+    EXPECT_NEAR(s.mean, expected, rel * expected) << "channel " << c;
+}
+
+// A medium "m" of the given type filling [-10, 10]^3 (a grid of 2^3 equal densities: pbrt-v4's
+// grid falls to zero over the outer half cell, so the inner region is exactly `density`).
+std::string medium(const std::string& type, const std::string& coefficients) {
+    if (type == "homogeneous")
+        return "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" " + coefficients + "\n";
+    return "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" " + coefficients +
+           " \"integer nx\" [ 2 ] \"integer ny\" [ 2 ] \"integer nz\" [ 2 ]"
+           " \"float density\" [ 1 1 1 1 1 1 1 1 ] \"point3 p0\" [ -10 -10 -10 ]"
+           " \"point3 p1\" [ 10 10 10 ]\n";
+}
+
+// A closed box [lo, hi] of outward-facing quads.
+std::string box(const Vec3& lo, const Vec3& hi) {
+    std::string p, idx;
+    const Vec3 c[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
+                       {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
+                       {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+    for (const Vec3& v : c) p += fmt::format(" {} {} {}", v.x, v.y, v.z);
+    // Counter-clockwise seen from outside: the winding's normal points out.
+    const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                             {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+    for (const auto& f : faces)
+        idx += fmt::format(" {} {} {} {} {} {}", f[0], f[1], f[2], f[0], f[2], f[3]);
+    return "Shape \"trianglemesh\" \"point3 P\" [" + p + " ] \"integer indices\" [" + idx + " ]\n";
+}
+
+RenderOptions options(int spp) {
+    RenderOptions opt;
+    opt.spp = spp;
+    opt.seed = 3;
+    return opt;
+}
+
+}  // namespace
+
+TEST(MediaChi2, HenyeyGreensteinSamplesMatchItsDensity) {
+    const float gs[] = {-0.7f, 0.f, 0.3f, 0.9f};
+    const double alpha = chi2::sidak_alpha(0.01, 4);
+    const Vec3 wo = normalize(Vec3(0.3f, -0.5f, 0.8f));
+    for (float g : gs) {
+        chi2::Options opt;
+        opt.seed = uint64_t(7 + 100 * g);
+        auto r = chi2::test(
+            [&](Rng& rng) -> std::optional<Vec3> {
+                return sample_hg_phase(wo, g, Vec2(rng.next_float(), rng.next_float()));
+            },
+            [&](const Vec3& w) { return double(hg_phase(wo, w, g)); }, opt);
+        EXPECT_GT(r.p_value, alpha) << "g " << g << ": " << r.message;
+    }
+    // pbrt-v4's convention: g > 0 scatters forward, away from wo.
+    EXPECT_GT(hg_phase(wo, -wo, 0.5f), hg_phase(wo, wo, 0.5f));
+}
+
+TEST(Media, AnAbsorbingMediumTransmitsAsBeersLaw) {
+    // An orthographic view of an emitter 2 units away through a medium of sigma_a (0.5, 1, 2):
+    // every pixel sees exp(-2 sigma_a).
+    for (const char* type : {"homogeneous", "uniformgrid"}) {
+        SCOPED_TRACE(type);
+        const std::string scene =
+            medium(type, "\"rgb sigma_a\" [ 0.5 1 2 ] \"rgb sigma_s\" [ 0 0 0 ]") +
+            "MediumInterface \"\" \"m\"\n"
+            "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"orthographic\"\n"
+            "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+            "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 5 ]\n"
+            "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
+            "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+            "  \"point3 P\" [ -5 -5 2  -5 5 2  5 5 2  5 -5 2 ]\n";
+        const Image img = render_text(scene, options(256)).image;
+        const double sigma[3] = {0.5, 1, 2};
+        for (int c = 0; c < 3; ++c) expect_channel(img, c, std::exp(-2 * sigma[c]), 0.05);
+    }
+}
+
+TEST(Media, ASlabBetweenInterfacesDimsTheLightBothWays) {
+    // A diffuse floor of albedo 0.5 lit from straight above, seen from straight above, under a
+    // slab 0.5 thick of an absorbing medium bounded by an interface box: the camera's ray and
+    // the shadow ray each cross it once, so the floor shows 0.5 exp(-2 * 0.5 sigma_a). The
+    // shadow rays pass the interfaces (transmittance in closed form, or by ratio tracking in
+    // the grid).
+    for (const char* type : {"homogeneous", "uniformgrid"}) {
+        SCOPED_TRACE(type);
+        const std::string world =
+            medium(type, "\"rgb sigma_a\" [ 0.4 1 1.6 ] \"rgb sigma_s\" [ 0 0 0 ]") +
+            "AttributeBegin\nMediumInterface \"m\" \"\"\nMaterial \"interface\"\n" +
+            box(Vec3(-8, -8, 1), Vec3(8, 8, 1.5f)) +
+            "AttributeEnd\nMaterial \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+            "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+            "  \"point3 P\" [ -6 -6 0  6 -6 0  6 6 0  -6 6 0 ]\n";
+        const std::string scene = lit_from_above(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"orthographic\"", 16, 16, 64, world);
+        const Image img = render_text(scene, options(64)).image;
+        const double sigma[3] = {0.4, 1, 1.6};
+        for (int c = 0; c < 3; ++c) expect_channel(img, c, 0.5 * std::exp(-sigma[c]), 0.05);
+    }
+}
+
+TEST(Media, AScatteringMediumInAWhiteFurnaceIsOne) {
+    // Inside a sphere that emits 1 and reflects nothing, a medium that only scatters (coloured,
+    // forward-scattering) leaves every ray's radiance 1: each path ends on the wall.
+    for (const char* type : {"homogeneous", "uniformgrid"}) {
+        SCOPED_TRACE(type);
+        const std::string scene =
+            medium(type,
+                   "\"rgb sigma_a\" [ 0 0 0 ] \"rgb sigma_s\" [ 0.3 0.8 1.5 ] "
+                   "\"float g\" [ 0.6 ]") +
+            "MediumInterface \"m\" \"m\"\n"
+            "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" [ 60 ]\n"
+            "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+            "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 1000 ]\n"
+            "WorldBegin\nAttributeBegin\nReverseOrientation\n"
+            "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
+            "Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
+            "Shape \"sphere\" \"float radius\" [ 3 ]\nAttributeEnd\n";
+        const Image img = render_text(scene, options(64)).image;
+        for (int c = 0; c < 3; ++c) expect_channel(img, c, 1.0, 0.03);
+    }
+}
+
+TEST(Media, AnEmittingMediumGlowsAsItsClosedForm) {
+    // An absorbing, emitting medium seen over a black background along a depth of 2:
+    // L = Le (1 - exp(-2 sigma_a)).
+    const std::string scene =
+        medium("homogeneous",
+               "\"rgb sigma_a\" [ 0.5 1 2 ] \"rgb sigma_s\" [ 0 0 0 ] \"rgb Le\" [ 1 2 3 ]") +
+        "MediumInterface \"\" \"m\"\n"
+        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"orthographic\"\n"
+        "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+        "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 5 ]\n"
+        "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+        "  \"point3 P\" [ -5 -5 2  -5 5 2  5 5 2  5 -5 2 ]\n";
+    const Image img = render_text(scene, options(256)).image;
+    const double sigma[3] = {0.5, 1, 2}, Le[3] = {1, 2, 3};
+    for (int c = 0; c < 3; ++c) expect_channel(img, c, Le[c] * (1 - std::exp(-2 * sigma[c])), 0.05);
+}
+
+TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
+    const std::string fog =
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMediumInterface \"\" \"fog\"\n"
+        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\n"
+        "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
+        "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 0 1 ]\n";
+    for (const char* integrator : {"bdpt", "lightcuts", "bdlightcuts", "manylight", "vpl"}) {
+        RenderOptions opt = options(1);
+        opt.integrator = integrator;
+        try {
+            render_text(fog, opt);
+            ADD_FAILURE() << integrator << " rendered a scene with media";
+        } catch (const UsageError& e) {
+            EXPECT_NE(std::string(e.what()).find("does not render participating media yet"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    expect_scene_error("WorldBegin\nMediumInterface \"smoke\" \"\"\nShape \"sphere\"\n", 3, 1,
+                       "medium \"smoke\" is not defined");
+    expect_scene_error(
+        "MakeNamedMedium \"a\" \"string type\" \"uniformgrid\" \"float density\" [ 1 2 3 ]\n"
+        "  \"integer nx\" [ 2 ]\n",
+        1, 1, "3 \"density\" values where nx * ny * nz = 2 x 1 x 1");
+    expect_scene_error("MakeNamedMedium \"a\" \"string type\" \"homogeneous\" \"float g\" [ 1 ]\n",
+                       1, 1, "\"g\" must be in (-1, 1)");
+    expect_scene_error("MakeNamedMedium \"a\" \"string type\" \"fluffy\"\n", 1, 1,
+                       "unknown medium type \"fluffy\"");
+}
