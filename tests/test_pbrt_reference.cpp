@@ -69,3 +69,6 @@ TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
+TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
+TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
+TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }
