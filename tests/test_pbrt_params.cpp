@@ -44,7 +44,8 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
         add("indices", "\"integer indices\" [ 0 1 2 3 ]");
     } else if (d == "Shape" && t == "plymesh") {
         add("filename", "\"string filename\" \"" + dir + "/tri.ply\"");
-    } else if (d.rfind("Texture", 0) == 0 && t == "imagemap") {
+    } else if ((d.rfind("Texture", 0) == 0 && t == "imagemap") ||
+               (d == "LightSource" && (t == "goniometric" || t == "projection"))) {
         add("filename", "\"string filename\" \"" + dir + "/tex.exr\"");
     } else if (d == "MakeNamedMedium" && t == "uniformgrid") {
         add("density", "\"float density\" [ 1 0.5 ]");

@@ -71,3 +71,6 @@ TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
 TEST(PbrtReference, HomogeneousFogUnderASpotLight) { expect_matches_pbrt("media_fog"); }
 TEST(PbrtReference, GridMediumBehindInterfaces) { expect_matches_pbrt("media_grid"); }
+TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
+TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
+TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }

@@ -157,6 +157,7 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                                                          ls->L / (ls->pdf_solid_angle * sl->pmf), 0,
                                                          ls->p_error, ls->prim);
                     sampled->si.time = pt.si.time;
+                    sampled->si.uv = ls->uv;
                     sampled->pdf_fwd = sampled->pdf_light_origin(ctx, pt);
                     L = pt.beta * pt.f(*sampled, TransportMode::Radiance) * sampled->beta *
                         abs_dot(ls->wi, pt.ns());

@@ -93,6 +93,7 @@ int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer
     path[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, les->L, pdf_origin,
                                          les->p_error, les->prim);
     path[0].si.time = time;
+    path[0].si.uv = les->uv;
     float cos_light = les->n_light == Vec3() ? 1.f : abs_dot(les->n_light, les->ray.d);
     RGB beta = les->L * (cos_light / (pdf_origin * les->pdf_dir));
     // Off the light's surface, to the side the ray leaves by (points stay where they are).

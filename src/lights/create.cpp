@@ -43,10 +43,95 @@ float get_target(const ParameterList& params, const std::string& name, const Fil
 // spectrum's illuminant, i.e. 1 per unit of RGB here.
 float rescale(float target, float k_e) { return target > 0 && k_e > 0 ? target / k_e : 1.f; }
 
+// The image a light names, resolved against the scene's folder, linear (8-bit files are taken as
+// sRGB-encoded, as pbrt-v4 takes them) and checked for values a light cannot emit.
+Image read_light_image(const ParameterList& params, const std::string& what,
+                       const std::string& base_dir, const FileLoc& loc, std::string* name) {
+    *name = params.get_string("filename", "");
+    if (name->empty()) throw_input_error(loc, "{}: \"filename\" is required", what);
+    std::filesystem::path path(*name);
+    if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+    const FileLoc& floc = loc_of(params, "filename", loc);
+    Image image = read_image(path.string(), floc);
+    if (image.width <= 0 || image.height <= 0)
+        throw_input_error(floc, "{} \"{}\": the image is empty", what, *name);
+    for (RGB& c : image.pixels) {
+        if (!c.is_finite())
+            throw_input_error(floc, "{} \"{}\": the image has infinite or NaN pixels", what, *name);
+        if (image.low_dynamic_range)
+            c = RGB(srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b));
+    }
+    return image;
+}
+
+std::unique_ptr<Light> create_goniometric(const ParameterList& params, const Transform& to_world,
+                                          const std::string& base_dir, const FileLoc& loc) {
+    RGB I = get_color(params, "I", loc);
+    float scale = get_scale(params, loc);
+    float power = get_target(params, "power", loc);
+    std::string name;
+    Image image = read_light_image(params, "goniometric light", base_dir, loc, &name);
+    if (image.width != image.height)
+        throw_input_error(loc_of(params, "filename", loc),
+                          "goniometric light \"{}\": image is {}x{}; expected a square "
+                          "(equal-area) image",
+                          name, image.width, image.height);
+    // Relative intensity: the channels' average (a grey image's value), as pbrt-v4 reads RGB.
+    std::vector<float> values(image.pixels.size());
+    double sum = 0;
+    for (size_t i = 0; i < values.size(); ++i) {
+        const RGB& c = image.pixels[i];
+        values[i] = std::max(0.f, (c.r + c.g + c.b) / 3);
+        sum += double(values[i]);
+    }
+    // "power": the map's mean over the sphere's 4 pi sr (pbrt-v4 leaves I's colour out).
+    scale *= rescale(power, float(4 * kPi * sum / double(values.size())));
+    // pbrt-v4 reads the map in light space with y and z swapped: its centre is the light's +y.
+    const float swap_yz[4][4] = {{1, 0, 0, 0}, {0, 0, 1, 0}, {0, 1, 0, 0}, {0, 0, 0, 1}};
+    return make_goniometric_light(to_world * Transform::from_matrix(swap_yz), I * scale,
+                                  std::move(values), image.width);
+}
+
+std::unique_ptr<Light> create_projection(const ParameterList& params, const Transform& to_world,
+                                         const std::string& base_dir, const FileLoc& loc) {
+    float scale = get_scale(params, loc);
+    float power = get_target(params, "power", loc);
+    float fov = params.get_float("fov", 90.f);
+    if (!(fov > 0 && fov < 180))
+        throw_input_error(loc_of(params, "fov", loc),
+                          "projection light: \"fov\" must be in (0, 180), got {}", fov);
+    std::string name;
+    Image image = read_light_image(params, "projection light", base_dir, loc, &name);
+    for (RGB& c : image.pixels) c = clamp_zero(c);
+    if (power > 0) {
+        // pbrt-v4's k_e: the luminance the image sends over its solid angle, each pixel by the
+        // solid angle at its centre.
+        int w = image.width, h = image.height;
+        float aspect = float(w) / float(h), t = std::tan(radians(fov) / 2);
+        float hx = aspect > 1 ? aspect : 1, hy = aspect > 1 ? 1 : 1 / aspect;
+        double sum = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                float sx = hx * (2 * (float(x) + 0.5f) / float(w) - 1);
+                float sy = hy * (2 * (float(y) + 0.5f) / float(h) - 1);
+                float cos_theta = normalize(Vec3(sx * t, sy * t, 1)).z;
+                sum += double(image.at(x, y).luminance() * cos_theta * cos_theta * cos_theta);
+            }
+        scale *= rescale(power, float(4 * t * t * hx * hy * sum / double(w * h)));
+    }
+    for (RGB& c : image.pixels) c = c * scale;
+    return make_projection_light(to_world, std::move(image), fov);
+}
+
 std::unique_ptr<Light> create_infinite(const ParameterList& params, const Transform& to_world,
                                        const std::string& base_dir, const FileLoc& loc) {
     if (const Param* portal = params.find("portal"))
-        throw_input_error(portal->loc, "infinite light: \"portal\" is not supported by manylight");
+        // pbrt-v4's portal changes the image, not only the sampling: a point sees the map only
+        // through the portal (resampled into the portal's frame), and nothing from its far side.
+        throw_input_error(portal->loc,
+                          "infinite light: \"portal\" is not supported by manylight (pbrt-v4 "
+                          "lights only the directions through the portal; remove it to light "
+                          "every direction)");
     float scale = get_scale(params, loc);
     std::string filename = params.get_string("filename", "");
     bool has_L = params.has("L");
@@ -137,26 +222,41 @@ std::unique_ptr<Light> create_light(const std::string& type, const ParameterList
         return make_distant_light(normalize(w), L * scale);
     }
     if (type == "infinite") return create_infinite(params, light_to_world, base_dir, loc);
-    if (type == "goniometric" || type == "projection")
-        throw_input_error(loc, "the pbrt-v4 light \"{}\" is not supported by manylight", type);
+    if (type == "goniometric") return create_goniometric(params, light_to_world, base_dir, loc);
+    if (type == "projection") return create_projection(params, light_to_world, base_dir, loc);
     throw_input_error(loc, "unknown light type \"{}\"", type);
 }
 
 std::unique_ptr<Light> create_area_light(const std::string& type, const ParameterList& params,
-                                         const TriangleMesh* mesh, const FileLoc& loc) {
+                                         const TriangleMesh* mesh, const FileLoc& loc,
+                                         const std::string& base_dir) {
     if (type != "diffuse") throw_input_error(loc, "unknown area light type \"{}\"", type);
-    if (params.has("filename"))
-        throw_input_error(loc_of(params, "filename", loc),
-                          "area light: image \"filename\" is not supported");
-    RGB L = get_color(params, "L", loc);
     float scale = get_scale(params, loc);
     bool two_sided = params.get_bool("twosided", false);
     float power = get_target(params, "power", loc);
-    if (power > 0 && mesh) {
-        double area = 0;
+    double area = 0;
+    if (mesh)
         for (size_t i = 0; i < mesh->triangle_count(); ++i) area += mesh->triangle_area(i);
-        scale *= rescale(power, float(kPi * area * (two_sided ? 2 : 1)));
+    float sides = two_sided ? 2.f : 1.f;
+    if (params.has("filename")) {
+        if (params.has("L"))
+            throw_input_error(loc_of(params, "L", loc),
+                              "area light: cannot specify both \"L\" and \"filename\"");
+        std::string name;
+        Image image = read_light_image(params, "area light", base_dir, loc, &name);
+        if (power > 0) {
+            // pbrt-v4's k_e: the image's mean luminance (negative pixels included) over the
+            // emitting area.
+            double lum = 0;
+            for (const RGB& c : image.pixels) lum += double(c.luminance());
+            lum /= double(image.pixels.size());
+            scale *= rescale(power, float(kPi * area * lum * sides));
+        }
+        for (RGB& c : image.pixels) c = c * scale;
+        return make_image_area_light(mesh, std::move(image), two_sided);
     }
+    RGB L = get_color(params, "L", loc);
+    if (power > 0 && mesh) scale *= rescale(power, float(kPi * area * sides));
     return make_diffuse_area_light(mesh, L * scale, two_sided);
 }
 

@@ -17,9 +17,11 @@ std::unique_ptr<Light> create_light(const std::string& type, const ParameterList
                                     const Transform& light_to_world, const std::string& base_dir,
                                     const FileLoc& loc);
 
-// `AreaLightSource "diffuse"` ("L", "scale", "twosided", "power") on a world-space mesh whose
-// normals face the emitting side (flip_normals already applied).
+// `AreaLightSource "diffuse"` ("L" or an image "filename" read relative to base_dir, "scale",
+// "twosided", "power") on a world-space mesh whose normals face the emitting side (flip_normals
+// already applied).
 std::unique_ptr<Light> create_area_light(const std::string& type, const ParameterList& params,
-                                         const TriangleMesh* mesh, const FileLoc& loc);
+                                         const TriangleMesh* mesh, const FileLoc& loc,
+                                         const std::string& base_dir = "");
 
 }  // namespace ml

@@ -3,6 +3,8 @@
 // n) in the CDF), then a direction uniformly over the solid angle it subtends, warped towards the
 // receiver's cosine (pbrt-v4's Triangle::Sample); where the triangle looks tiny or huge, a uniform
 // point on it. Paths leaving the light start at a uniform point, area density 1 / total area.
+// With an image (pbrt-v4's "filename"), the radiance at texture coordinates (u, v) is the image's
+// bilinear value at (u, 1 - v), clamped at its edges; sampling stays by area, as pbrt-v4's.
 #include "lights/lights.h"
 #include "lights/point_lights.h"
 #include "sampling/distributions.h"
@@ -15,8 +17,14 @@ namespace {
 
 class DiffuseAreaLight final : public Light {
 public:
-    DiffuseAreaLight(const TriangleMesh* mesh, const RGB& L, bool two_sided)
-        : m_mesh(mesh), m_L(L), m_two_sided(two_sided) {
+    DiffuseAreaLight(const TriangleMesh* mesh, const RGB& L, bool two_sided, Image image)
+        : m_mesh(mesh), m_L(L), m_two_sided(two_sided), m_image(std::move(image)) {
+        if (m_image.width > 0) {
+            // The image's mean stands for L in power() and the bounds (pbrt-v4's Phi).
+            RGB sum;
+            for (RGB& c : m_image.pixels) sum += c = clamp_zero(c);
+            m_L = sum / float(m_image.pixels.size());
+        }
         std::vector<float> areas(mesh->triangle_count());
         double total = 0;
         for (size_t i = 0; i < areas.size(); ++i) {
@@ -67,6 +75,7 @@ public:
         // Seen from behind, a one-sided triangle sends nothing: no sample.
         if (!m_two_sided && dot(n, ctx.p - v[0]) <= 0) return std::nullopt;
         LightLiSample s;
+        Barycentrics bary;
         auto st = solid_angle_sampler(tri, v, ctx.p);
         if (st) {
             Vec2 uu(ux, u.y);
@@ -81,10 +90,12 @@ public:
             if (!dir) return std::nullopt;
             auto b = hit_barycentrics(v, ctx.p, *dir);
             if (!b) return std::nullopt;
-            point_at(v, *b, &s.p_light, &s.p_error);
+            bary = *b;
+            point_at(v, bary, &s.p_light, &s.p_error);
             s.pdf_solid_angle = pmf_tri * pdf_warp / st->solid_angle();
         } else {
-            point_at(v, sample_uniform_triangle({ux, u.y}), &s.p_light, &s.p_error);
+            bary = sample_uniform_triangle({ux, u.y});
+            point_at(v, bary, &s.p_light, &s.p_error);
         }
         Vec3 d = s.p_light - ctx.p;
         float d2 = length_squared(d);
@@ -93,7 +104,8 @@ public:
         float cos_l = -dot(n, s.wi);
         if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return std::nullopt;
         if (!st) s.pdf_solid_angle = pmf_tri * d2 / (std::abs(cos_l) * m_mesh->triangle_area(tri));
-        s.L = m_L;
+        s.uv = texture_coords(tri, bary);
+        s.L = emission(s.uv);
         s.n_light = n;
         s.prim = uint32_t(tri);
         return s;
@@ -121,13 +133,13 @@ public:
     }
     RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const override {
         if (!m_two_sided && dot(n, w) <= 0) return RGB();
-        return m_L;
+        return emission(uv);
     }
 
     std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const override {
         if (m_area <= 0) return std::nullopt;
         LightLeSample s;
-        sample_point(u_pos, &s.ray.o, &s.n_light, &s.p_error);
+        sample_point(u_pos, &s.ray.o, &s.n_light, &s.p_error, &s.uv, &s.prim);
         // Cosine-weighted about the normal; two-sided lights pick a side with half of u_dir.x.
         Vec2 u = u_dir;
         bool back = false;
@@ -140,7 +152,7 @@ public:
         if (pdf_dir == 0) return std::nullopt;
         if (back) w.z = -w.z;
         s.ray.d = Frame::from_z(s.n_light).to_world(w);
-        s.L = m_L;
+        s.L = emission(s.uv);
         s.pdf_pos = 1 / m_area;
         s.pdf_dir = pdf_dir;
         return s;
@@ -154,18 +166,21 @@ public:
     RGB power() const override { return m_L * (kPi * m_area * (m_two_sided ? 2.f : 1.f)); }
     std::optional<LightBounds> bounds() const override { return m_bounds; }
     // n points stratified over the area (uniform density 1 / area): each stands for area / n of
-    // the surface, a cosine lobe of peak intensity L * area / n per emitting side.
+    // the surface, a cosine lobe of peak intensity L * area / n per emitting side (L at the
+    // point, for an image).
     void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const override {
         if (m_area <= 0 || n <= 0) return;
         Vec2 shift = sampler.get_2d();
-        RGB I = m_L * (m_area / float(n));
         for (int i = 0; i < n; ++i) {
             PointLight pl;
             Vec3 p_error;
+            Vec2 uv;
+            uint32_t prim;
             sample_point(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &pl.p, &pl.n,
-                         &p_error);
+                         &p_error, &uv, &prim);
             pl.offset = surface_offset(pl.n, p_error);
-            pl.intensity = I;
+            pl.intensity = emission(uv) * (m_area / float(n));
+            if (pl.intensity.is_black()) continue;
             pl.kind = PointLightKind::Oriented;
             out.push_back(pl);
             if (m_two_sided) {
@@ -176,14 +191,45 @@ public:
     }
 
 private:
-    // A uniform point p on the mesh, its normal n and the error bound of p.
-    void sample_point(Vec2 u, Vec3* p, Vec3* n, Vec3* p_error) const {
+    // A uniform point p on the mesh, its normal n, the error bound of p, its texture
+    // coordinates and its triangle.
+    void sample_point(Vec2 u, Vec3* p, Vec3* n, Vec3* p_error, Vec2* uv, uint32_t* prim) const {
         float ux;
         size_t tri = m_tri.sample_discrete(u.x, nullptr, &ux);
         Vec3 v[3];
         corners(tri, v);
-        point_at(v, sample_uniform_triangle({ux, u.y}), p, p_error);
+        Barycentrics b = sample_uniform_triangle({ux, u.y});
+        point_at(v, b, p, p_error);
         *n = normal(tri);
+        *uv = texture_coords(tri, b);
+        *prim = uint32_t(tri);
+    }
+    // Texture coordinates at barycentrics b of triangle tri: the mesh's, else pbrt's (0,0),
+    // (1,0), (1,1) per triangle (as ray hits have them).
+    Vec2 texture_coords(size_t tri, const Barycentrics& b) const {
+        if (m_image.width == 0) return {};
+        Vec2 t0(0, 0), t1(1, 0), t2(1, 1);
+        if (!m_mesh->uv.empty()) {
+            const uint32_t* idx = &m_mesh->indices[3 * tri];
+            t0 = m_mesh->uv[idx[0]], t1 = m_mesh->uv[idx[1]], t2 = m_mesh->uv[idx[2]];
+        }
+        return t0 * b.b0 + t1 * b.b1 + t2 * b.b2;
+    }
+    // Radiance at texture coordinates uv: L, or the image's bilinear value at (u, 1 - v) with
+    // pixel centres at half-integers and clamped edges (pbrt-v4's Image::Bilerp).
+    RGB emission(Vec2 uv) const {
+        if (m_image.width == 0) return m_L;
+        float x = uv.x * float(m_image.width) - 0.5f, y = (1 - uv.y) * float(m_image.height) - 0.5f;
+        if (!std::isfinite(x) || !std::isfinite(y)) return RGB();
+        float fx = std::floor(x), fy = std::floor(y);
+        float dx = x - fx, dy = y - fy;
+        auto at = [&](float px, float py) {
+            int ix = int(std::clamp(px, 0.f, float(m_image.width - 1)));
+            int iy = int(std::clamp(py, 0.f, float(m_image.height - 1)));
+            return m_image.at(ix, iy);
+        };
+        return at(fx, fy) * ((1 - dx) * (1 - dy)) + at(fx + 1, fy) * (dx * (1 - dy)) +
+               at(fx, fy + 1) * ((1 - dx) * dy) + at(fx + 1, fy + 1) * (dx * dy);
     }
     void corners(size_t tri, Vec3 v[3]) const {
         if (!m_small.empty()) {
@@ -317,8 +363,9 @@ private:
 
     const TriangleMesh* m_mesh;
     std::vector<SmallTriangle> m_small;  // meshes of at most kPerReceiverChoice triangles
-    RGB m_L;
+    RGB m_L;                             // the radiance; with an image, its mean
     bool m_two_sided;
+    Image m_image;  // width 0: none; else linear, scaled, non-negative
     float m_area = 0;
     Distribution1D m_tri;
     LightBounds m_bounds;
@@ -328,7 +375,12 @@ private:
 
 std::unique_ptr<Light> make_diffuse_area_light(const TriangleMesh* mesh, const RGB& L,
                                                bool two_sided) {
-    return std::make_unique<DiffuseAreaLight>(mesh, L, two_sided);
+    return std::make_unique<DiffuseAreaLight>(mesh, L, two_sided, Image());
+}
+
+std::unique_ptr<Light> make_image_area_light(const TriangleMesh* mesh, Image image,
+                                             bool two_sided) {
+    return std::make_unique<DiffuseAreaLight>(mesh, RGB(), two_sided, std::move(image));
 }
 
 }  // namespace ml

@@ -45,6 +45,7 @@ struct LightLiSample {
     Vec3 n_light;               // normal there (zero for point-like lights)
     Vec3 p_error;               // error bound of each coordinate of p_light (zero: exact)
     uint32_t prim = 0;          // area lights: the triangle of the mesh p_light is on
+    Vec2 uv;                    // area lights: the surface's texture coordinates at p_light
     // What a shadow ray towards p_light moves it by (segment_ray).
     Vec3 offset() const { return surface_offset(n_light, p_error); }
 };
@@ -55,6 +56,7 @@ struct LightLeSample {
     Vec3 n_light;       // surface normal at the origin (zero for points and directions)
     Vec3 p_error;       // error bound of each coordinate of the origin (zero: exact)
     uint32_t prim = 0;  // area lights: the triangle of the mesh the origin is on
+    Vec2 uv;            // area lights: the surface's texture coordinates at the origin
     float pdf_pos = 0;  // area density of the origin (1 for delta positions)
     float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };
@@ -79,7 +81,12 @@ public:
     virtual RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const {
         return RGB();
     }
-    // Infinite lights: radiance arriving along a ray that escapes the scene.
+    // Point-like lights whose intensity varies by direction in a way that no PointLight field
+    // describes (goniometric, projection): the intensity leaving towards unit world direction w.
+    // Their point lights point back here (PointLight::emitter).
+    virtual RGB emitted_intensity(const Vec3& w) const { return RGB(); }
+    // Infinite lights: radiance arriving along a ray that escapes the scene (portal lights also
+    // read its origin: they light only the points that see the sky through the portal).
     virtual RGB radiance_escaped(const Ray& ray) const { return RGB(); }
 
     virtual std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const = 0;

@@ -19,12 +19,25 @@ std::unique_ptr<Light> make_point_light(const Vec3& p, const RGB& I);
 // smoothstep between (pbrt-v4).
 std::unique_ptr<Light> make_spot_light(const Vec3& p, const Vec3& axis, const RGB& I,
                                        float cos_start, float cos_end);
+// Goniometric light: intensity I times the nearest value of a res x res equal-area octahedral
+// map (row-major, top row first, non-negative) of directions in the space image_to_world maps to
+// the world (the light at its origin).
+std::unique_ptr<Light> make_goniometric_light(const Transform& image_to_world, const RGB& I,
+                                              std::vector<float> values, int res);
+// Projection light at light space's origin, projecting `image` (linear, scaled, non-negative)
+// along +z with pbrt-v4's framing: fov (degrees) spans the image's shorter side, its top row
+// towards light +y.
+std::unique_ptr<Light> make_projection_light(const Transform& light_to_world, Image image,
+                                             float fov_degrees);
 // Distant light arriving along -w (w: unit direction towards the light) with radiance L.
 std::unique_ptr<Light> make_distant_light(const Vec3& w, const RGB& L);
 // Diffuse emitter over a whole world-space mesh, radiance L leaving the side of
 // triangle_normal() (both sides when two_sided). The mesh must outlive the light.
 std::unique_ptr<Light> make_diffuse_area_light(const TriangleMesh* mesh, const RGB& L,
                                                bool two_sided);
+// The same with radiance from an image (linear, scaled) read at the mesh's texture coordinates
+// (u, 1 - v), bilinearly (pbrt-v4's "filename").
+std::unique_ptr<Light> make_image_area_light(const TriangleMesh* mesh, Image image, bool two_sided);
 // Constant environment radiance L.
 std::unique_ptr<Light> make_uniform_infinite_light(const RGB& L);
 

@@ -1,5 +1,7 @@
 #include "lights/point_lights.h"
 
+#include "lights/light.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -55,6 +57,7 @@ RGB point_light_intensity(const PointLightSet& set, const PointLight& pl, const 
                 const VplSurface& s = set.surfaces[size_t(pl.surface)];
                 return s.flux * vpl_surface_value(s, w);
             }
+            if (pl.emitter) return pl.emitter->emitted_intensity(w);
             if (pl.cos_end <= -1.f) return pl.intensity;
             float c = dot(pl.n, w);
             if (c <= pl.cos_end) return RGB();

@@ -18,6 +18,8 @@
 
 namespace ml {
 
+class Light;
+
 enum class PointLightKind : uint8_t {
     Omni,         // intensity in every direction (spot lights: within their cone)
     Oriented,     // intensity * max(0, cos(n, w)): a cosine lobe about n
@@ -80,6 +82,10 @@ struct PointLight {
     // f, so that f |cos| towards w is known without the flux (bdlightcuts' weights).
     float diffuse_f = 0;
     uint8_t falloff[kFalloffBins] = {};  // glossy lights (see kFalloffBins); 0: no falloff
+    // Omni lights of goniometric and projection lights: the light whose emitted_intensity gives
+    // the intensity towards each direction (`intensity` then bounds it over all directions, and
+    // the cone, if any, bounds where it is not zero). Null for every other light.
+    const Light* emitter = nullptr;
 };
 
 // The surface of a glossy VPL: its BSDF (with the Bxdf kept alive by the set's arenas), the

@@ -609,7 +609,7 @@ SceneDesc SceneBuilder::finish() {
         if (!r.area_light) continue;
         ParameterList params = r.area_light->params;  // fresh used-flags for each shape
         auto light = create_area_light(r.area_light->type, params, m_desc.meshes[i].get(),
-                                       r.area_light->loc);
+                                       r.area_light->loc, m_desc.base_dir);
         params.check_unused();
         m_desc.meshes[i]->area_light = light.get();
         m_desc.lights.push_back(std::move(light));

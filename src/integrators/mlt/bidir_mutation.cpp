@@ -186,6 +186,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
             if (!les || les->L.is_black() || les->pdf_pos == 0) return std::nullopt;
             lv[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, RGB(1.f), 0,
                                                les->p_error, les->prim);
+            lv[0].si.uv = les->uv;
         }
         PathVertex& q = lv[size_t(s - 1)];
         if (!q.is_connectible() || !mutually_visible(ctx.scene, p, q)) return std::nullopt;

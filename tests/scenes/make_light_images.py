@@ -1,0 +1,70 @@
+#!/usr/bin/env python3
+"""Writes the small 8-bit PNG images of the light reference scenes (light_*.pbrt): pure Python,
+so that anyone can remake them. python3 make_light_images.py (in this folder)."""
+import math
+import struct
+import zlib
+
+
+def write_png(path, width, height, channels, pixel):
+    """pixel(x, y) -> tuple of `channels` ints in [0, 255]; rows top first."""
+    raw = bytearray()
+    for y in range(height):
+        raw.append(0)
+        for x in range(width):
+            raw.extend(pixel(x, y))
+    colour = {1: 0, 3: 2}[channels]
+
+    def chunk(tag, data):
+        body = tag + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n")
+        f.write(chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, colour, 0, 0, 0)))
+        f.write(chunk(b"IDAT", zlib.compress(bytes(raw), 9)))
+        f.write(chunk(b"IEND", b""))
+
+
+def clamp(v):
+    return max(0, min(255, int(round(v))))
+
+
+# Goniometric: 32x32 grey equal-area map, smooth and lopsided (brighter towards the square's
+# left and top, and a bright patch off-centre), so that a wrong frame or flip shows.
+def gonio(x, y):
+    u, v = (x + 0.5) / 32, (y + 0.5) / 32
+    g = 40 + 120 * (1 - u) + 60 * (1 - v)
+    if (u - 0.3) ** 2 + (v - 0.65) ** 2 < 0.02:
+        g += 80
+    return (clamp(g),)
+
+
+# Projection: 24x16 RGB slide: red left third, green middle, blue right, a white top band and a
+# dark square at the lower right, so that flips and the aspect show.
+def slide(x, y):
+    if y < 4:
+        return (230, 230, 230)
+    if x >= 17 and y >= 10:
+        return (20, 20, 20)
+    if x < 8:
+        return (220, 60, 40)
+    if x < 16:
+        return (50, 200, 70)
+    return (40, 80, 230)
+
+
+# Area light: 16x16 RGB: a warm-to-cool ramp along u, darker towards the bottom (v small in
+# texture space), and a black cross, so that u, v and the 1 - v flip show.
+def emit(x, y):
+    t = (x + 0.5) / 16
+    s = 1 - (y + 0.5) / 16
+    k = 0.35 + 0.65 * (1 - s)
+    if x in (7, 8) or y in (7, 8):
+        return (0, 0, 0)
+    return (clamp(255 * k * (1 - 0.6 * t)), clamp(255 * k * 0.7), clamp(255 * k * (0.3 + 0.7 * t)))
+
+
+write_png("light_goniometric.png", 32, 32, 1, gonio)
+write_png("light_projection.png", 24, 16, 3, slide)
+write_png("light_area_image.png", 16, 16, 3, emit)
