@@ -30,6 +30,9 @@ struct PathTraceOptions {
     const SDTree* guide = nullptr;
     bool guide_record = false;
     float guide_bsdf_share = 0.5f;
+    // In participating media (transport/volume_path.h): single scattering towards point lights
+    // also sampled by distance equiangularly, weighed by MIS against delta tracking.
+    bool equiangular = true;
 };
 
 // A weight of the continued paths that depends on the direction in which they leave their first

@@ -94,10 +94,12 @@ RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& s
 // in a medium), weighed by MIS against the point's own direction sampling: f_pdf(wi) gives the
 // scattering function (times the cosine at a surface) and that sampling's density of wi, and
 // medium_for(wi) the medium a ray towards wi starts in. Divided by the light's pmf.
-template <class FPdf, class MediumFor>
+// `light_weight(light, pmf)` multiplies the sample of that light (chosen with probability pmf):
+// the MIS weight against equiangular sampling.
+template <class FPdf, class MediumFor, class LightWeight>
 RGB sample_direct(const Scene& scene, const LightSampleContext& ctx, const Vec3& offset, float time,
                   const LightSampler& light_sampler, Sampler& sampler, const FPdf& f_pdf,
-                  const MediumFor& medium_for) {
+                  const MediumFor& medium_for, const LightWeight& light_weight) {
     const float u_select = sampler.get_1d();
     const Vec2 u_light = sampler.get_2d();
     const auto sl = light_sampler.sample(ctx, u_select);
@@ -112,8 +114,103 @@ RGB sample_direct(const Scene& scene, const LightSampleContext& ctx, const Vec3&
                                  medium_for(ls->wi), time, sampler);
     if (tr.is_black()) return RGB();
     const float light_pdf = sl->pmf * ls->pdf_solid_angle;
-    const float w = is_delta_light(sl->light->type()) ? 1.f : power_heuristic(light_pdf, pdf_dir);
+    float w = is_delta_light(sl->light->type()) ? 1.f : power_heuristic(light_pdf, pdf_dir);
+    w *= light_weight(*sl->light, sl->pmf);
     return f * ls->L * tr * (w / light_pdf);
+}
+
+// Equiangular sampling (Kulla and Fajardo 2012) of the distance along a unit ray, over
+// [0, tmax), towards a point light at c: the density falls as 1 / r^2 from c, as the light's
+// contribution does, so that scattering next to a light is found at the rate it matters.
+struct Equiangular {
+    float delta = 0;  // the ray's parameter closest to c
+    float dist = 0;   // c's distance from the ray's line
+    float theta0 = 0, theta1 = 0;
+    bool valid = false;
+    Equiangular(const Ray& ray, float tmax, const Vec3& c) {
+        delta = dot(c - ray.o, ray.d);
+        dist = length(c - ray.at(delta));
+        if (!(dist > 1e-6f)) return;
+        theta0 = std::atan2(-delta, dist);
+        theta1 = tmax < kInfinity ? std::atan2(tmax - delta, dist) : 0.5f * kPi;
+        valid = theta1 > theta0;
+    }
+    float sample(float u) const { return delta + dist * std::tan(lerp(u, theta0, theta1)); }
+    // Over unit length.
+    float pdf_length(float t) const {
+        const float x = t - delta;
+        return dist / ((theta1 - theta0) * (dist * dist + x * x));
+    }
+};
+
+// Where a homogeneous medium's extinction is the same in every channel, delta tracking draws a
+// scattering point at t with density sigma_t exp(-sigma_t t) times the share of scattering in
+// the throughput-weighted extinction (`track`'s choice; no null collisions come first): the
+// density MIS weighs equiangular samples against. Not valid elsewhere (no equiangular
+// sampling there).
+struct GreyTracking {
+    float sigma_t = 0, scatter_share = 0;
+    bool valid = false;
+    GreyTracking() = default;
+    GreyTracking(const Medium& m, const RGB& beta) {
+        if (!m.homogeneous()) return;
+        const MediumProperties mp = m.at(Vec3());
+        const RGB st = mp.sigma_a + mp.sigma_s;
+        if (!(st.r > 0) || st.r != st.g || st.r != st.b) return;
+        const float c = channel_mean(beta * st);
+        if (!(c > 0)) return;
+        sigma_t = st.r;
+        scatter_share = channel_mean(beta * mp.sigma_s) / c;
+        valid = scatter_share > 0;
+    }
+    float pdf_length(float t) const { return sigma_t * std::exp(-sigma_t * t) * scatter_share; }
+};
+
+float mis_square(float a, float b) { return a * a / (a * a + b * b); }
+
+// The position of a light at a point (point, spot, goniometric and projection lights): where
+// its emitted rays start, the same for every sample.
+std::optional<Vec3> light_position(const Light& light) {
+    const auto le = light.sample_le(Vec2(0.5f, 0.5f), Vec2(0.5f, 0.5f));
+    if (le) return le->ray.o;
+    if (const auto b = light.bounds()) return (b->box.lo + b->box.hi) * 0.5f;
+    return std::nullopt;
+}
+
+}  // namespace
+
+namespace {
+
+// A point light chosen by power, a distance along the unit ray drawn equiangularly towards it,
+// and that point's light scattered back along the ray: transmittance from the ray's origin,
+// sigma_s, the phase function, the light and the shadow ray's transmittance, weighed by MIS
+// against delta tracking (GreyTracking) finding the point and choosing the light there.
+RGB equiangular_single_scattering(const Scene& scene, const Medium& medium, const Ray& ray,
+                                  float tmax, const GreyTracking& grey,
+                                  const LightSampler& light_sampler, Sampler& sampler) {
+    const float u_select = sampler.get_1d(), u_t = sampler.get_1d();
+    const Vec2 u_light = sampler.get_2d();
+    const auto sl = light_sampler.sample(u_select);
+    if (!sl || sl->light->type() != LightType::DeltaPosition) return RGB();
+    const auto c = light_position(*sl->light);
+    if (!c) return RGB();
+    const Equiangular eq(ray, tmax, *c);
+    if (!eq.valid) return RGB();
+    const float t = eq.sample(u_t);
+    if (!(t >= 0 && t < tmax)) return RGB();
+    const Vec3 p = ray.at(t);
+    const LightSampleContext ctx{p, Vec3(), Vec3()};
+    const auto ls = sl->light->sample_li(ctx, u_light);
+    if (!ls || ls->L.is_black()) return RGB();
+    const MediumProperties mp = medium.at(p);
+    const float phase = hg_phase(-ray.d, ls->wi, medium.g());
+    const RGB tr =
+        transmittance(scene, p, Vec3(), ls->p_light, ls->offset(), &medium, ray.time, sampler);
+    if (tr.is_black()) return RGB();
+    const float p_equi = sl->pmf * eq.pdf_length(t);
+    const float p_track = light_sampler.pmf(ctx, sl->light) * grey.pdf_length(t);
+    const float w = mis_square(p_equi, p_track);
+    return mp.sigma_s * ls->L * tr * (phase * std::exp(-grey.sigma_t * t) * w / p_equi);
 }
 
 }  // namespace
@@ -179,6 +276,13 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
         // 1. The medium between the ray's origin and the surface (or infinity).
         if (medium) {
             const UnitRay u = unit_ray(ray, hit ? si.t : kInfinity);
+            // 1a. Single scattering towards one point light, at a distance drawn equiangularly,
+            // weighed by MIS against the tracking below finding the same point.
+            const GreyTracking grey =
+                options.equiangular ? GreyTracking(*medium, beta) : GreyTracking();
+            if (grey.valid && depth < options.max_depth)
+                L += beta * equiangular_single_scattering(scene, *medium, u.ray, u.tmax, grey,
+                                                          light_sampler, sampler);
             const Tracked ev =
                 track(*medium, u.ray, u.tmax, sampler, &beta, &L, depth < options.max_depth);
             if (ev.event == Event::Absorb) break;
@@ -188,13 +292,25 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
                 const float g = medium->g();
                 const LightSampleContext ctx{p, Vec3(), Vec3()};
                 const Medium* here = medium;
-                L += beta * sample_direct(
-                                scene, ctx, Vec3(), ray.time, light_sampler, sampler,
-                                [&](const Vec3& wi) {
-                                    const float ph = hg_phase(wo, wi, g);
-                                    return std::pair<RGB, float>(RGB(ph), ph);
-                                },
-                                [&](const Vec3&) { return here; });
+                L += beta *
+                     sample_direct(
+                         scene, ctx, Vec3(), ray.time, light_sampler, sampler,
+                         [&](const Vec3& wi) {
+                             const float ph = hg_phase(wo, wi, g);
+                             return std::pair<RGB, float>(RGB(ph), ph);
+                         },
+                         [&](const Vec3&) { return here; },
+                         [&](const Light& light, float pmf) {
+                             // Against the segment's equiangular sample of this light.
+                             if (!grey.valid || light.type() != LightType::DeltaPosition)
+                                 return 1.f;
+                             const auto c = light_position(light);
+                             if (!c) return 1.f;
+                             const Equiangular eq(u.ray, u.tmax, *c);
+                             if (!eq.valid) return 1.f;
+                             return mis_square(pmf * grey.pdf_length(ev.t),
+                                               light_sampler.pmf(&light) * eq.pdf_length(ev.t));
+                         });
                 const Vec3 wi = sample_hg_phase(wo, g, sampler.get_2d());
                 // The phase function is its own density: the throughput keeps its value.
                 prev_pdf = hg_phase(wo, wi, g);
@@ -231,7 +347,8 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
                          return std::pair<RGB, float>(bsdf.eval(si.wo, wi) * abs_dot(wi, si.ns),
                                                       bsdf.pdf_solid_angle(si.wo, wi));
                      },
-                     [&](const Vec3& wi) { return medium_after(si, wi, arrived); });
+                     [&](const Vec3& wi) { return medium_after(si, wi, arrived); },
+                     [](const Light&, float) { return 1.f; });
         }
         const float uc = sampler.get_1d();
         const Vec2 u = sampler.get_2d();

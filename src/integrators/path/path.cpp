@@ -47,6 +47,12 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
         m_light_sampler_name != "uniform" && m_light_sampler_name != "all")
         throw UsageError("path: lightsampler must be tree, power, uniform or all");
     m_options = PathTraceOptions{m_max_depth, m_rr_depth, m_light_sampler_name == "all"};
+    m_options.equiangular = settings.get_bool(
+        "equiangular", true,
+        {"",
+         "In participating media: also sample single scattering towards point and spot "
+         "lights at distances drawn equiangularly (Kulla and Fajardo 2012), weighed by MIS "
+         "against delta tracking; removes the fireflies of haze next to a point light."});
 }
 
 RenderResult PathIntegrator::render(const RenderContext& ctx) {
