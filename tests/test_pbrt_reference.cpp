@@ -69,3 +69,8 @@ TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
+TEST(PbrtReference, CoatedConductorMaterial) { expect_matches_pbrt("mat_coatedconductor"); }
+TEST(PbrtReference, CoatedConductorMaterialDepth2) {
+    expect_matches_pbrt("mat_coatedconductor_depth2");
+}
+TEST(PbrtReference, InterfaceMaterial) { expect_matches_pbrt("mat_interface"); }

@@ -513,6 +513,13 @@ SceneDesc SceneBuilder::finish() {
     for (const MeshSource& s : m_sources)
         if (s.error) std::rethrow_exception(s.error);
 
+    // Shapes of the "interface" material do not scatter, and without media they mark nothing:
+    // they are left out, so every ray passes through them, and so is an area light on one (as
+    // pbrt-v4 ignores it).
+    std::erase_if(m_shapes, [](const ShapeRecord& r) {
+        return r.material && r.material->type() == "interface";
+    });
+
     // Shapes with no material get the default one, created only when needed.
     for (ShapeRecord& r : m_shapes)
         if (!r.material) r.material = default_material(m_sources[r.source].loc);
