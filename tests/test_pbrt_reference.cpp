@@ -69,6 +69,7 @@ TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
+TEST(PbrtReference, CoatedDiffuseMaterial) { expect_matches_pbrt("mat_coateddiffuse"); }
 TEST(PbrtReference, CoatedConductorMaterial) { expect_matches_pbrt("mat_coatedconductor"); }
 TEST(PbrtReference, CoatedConductorMaterialDepth2) {
     expect_matches_pbrt("mat_coatedconductor_depth2");
