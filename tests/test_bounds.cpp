@@ -76,6 +76,25 @@ std::vector<NamedBxdf> bxdf_makers() {
                  TrowbridgeReitz(ax, ay), 1.5f, RGB(.7f, .4f, .2f),
                  CoatLayer{0.01f, coat_internal_round_trip(1.5f, 0.01f), 5});
          }},
+        {"coated_conductor",
+         [](float ax, float ay) {
+             CoatedConductorLayers l;
+             l.base = TrowbridgeReitz(ax, ay);
+             l.base_eta = RGB(0.2f, 0.9f, 1.5f) / 1.5f;
+             l.base_k = RGB(3.9f, 2.4f, 1.9f) / 1.5f;
+             return std::make_unique<CoatedConductorBxdf>(l);
+         }},
+        {"coated_conductor_rc",  // rough coat
+         [](float ax, float ay) {
+             CoatedConductorLayers l;
+             l.coat = TrowbridgeReitz(ax, ay);
+             l.base = TrowbridgeReitz(0.2f, 0.2f);
+             l.eta = 1.33f;
+             l.base_eta = RGB(1.f) / 1.33f;
+             l.base_k = RGB(4.f, 3.f, 2.f) / 1.33f;
+             l.thickness = 0.1f;
+             return std::make_unique<CoatedConductorBxdf>(l);
+         }},
     };
 }
 

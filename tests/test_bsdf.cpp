@@ -60,6 +60,21 @@ std::vector<BxdfCase> bxdf_cases() {
                      },
                      true});
     }
+    // Coated conductors: (coat alpha, conductor alpha), the conductor's IOR relative to the coat.
+    for (auto [ac, ab] : {std::pair{0.f, 0.3f}, {0.f, 0.05f}, {0.2f, 0.1f}, {0.4f, 0.f}}) {
+        std::string suffix = std::to_string(int(ac * 100)) + "_" + std::to_string(int(ab * 100));
+        c.push_back({"CoatedConductor" + suffix,
+                     [=] {
+                         CoatedConductorLayers l;
+                         l.coat = tr(ac, ac);
+                         l.base = tr(ab, ab * 1.5f);
+                         l.eta = 1.5f;
+                         l.base_eta = RGB(0.2f, 0.9f, 1.1f) / 1.5f;
+                         l.base_k = RGB(3.9f, 2.4f, 2.1f) / 1.5f;
+                         return std::make_unique<CoatedConductorBxdf>(l);
+                     },
+                     true});
+    }
     return c;
 }
 

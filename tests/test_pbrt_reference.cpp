@@ -74,3 +74,9 @@ TEST(PbrtReference, GridMediumBehindInterfaces) { expect_matches_pbrt("media_gri
 TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
 TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
 TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }
+TEST(PbrtReference, CoatedDiffuseMaterial) { expect_matches_pbrt("mat_coateddiffuse"); }
+TEST(PbrtReference, CoatedConductorMaterial) { expect_matches_pbrt("mat_coatedconductor"); }
+TEST(PbrtReference, CoatedConductorMaterialDepth2) {
+    expect_matches_pbrt("mat_coatedconductor_depth2");
+}
+TEST(PbrtReference, InterfaceMaterial) { expect_matches_pbrt("mat_interface"); }

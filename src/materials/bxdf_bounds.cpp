@@ -129,4 +129,62 @@ RGB CoatedDiffuseBxdf::max_value_bound(const Vec3& wo, const DirectionCone& cone
     return bound;
 }
 
+RGB CoatedConductorBxdf::max_value_bound(const Vec3& wo, const DirectionCone& cone) const {
+    if (wo.z == 0 || mirror_only()) return RGB();  // a delta lobe only
+    UpperSide u = to_upper_side(wo, cone);
+    float c_max = max_cos_up(u.cone);
+    if (c_max <= 0) return RGB();
+    RGB bound;
+    if (!m_base.effectively_smooth()) {
+        // Refraction into a denser coat (eta >= 1) brings directions closer together: theta
+        // shrinks with d theta' / d theta = cos / (eta cos') <= 1 and the azimuthal arc by
+        // sin' / sin = 1 / eta. So the cone's part above the surface refracts into the cone of
+        // the same angle about the refracted axis, and every refracted direction lies in the
+        // escape cone, within the critical angle of the normal. A rarer coat gets no bound.
+        if (m_eta < 1) return RGB(kInfinity);
+        Vec3 to = coat_inside(u.wo);
+        float crit_cos = safe_sqrt(1 - 1 / (m_eta * m_eta));
+        DirectionCone inner(Vec3(0, 0, 1), crit_cos);
+        float t = cone_angle(u.cone);
+        if (u.cone.axis.z > 0 && std::cos(t) > crit_cos)
+            inner = DirectionCone(coat_inside(u.cone.axis), cone_cos_widened(t));
+        MicrofacetReflectionBound mb = microfacet_reflection_bound(m_base, to, inner);
+        if (mb.dg > 0) {
+            // f cos_i = fb series lobe cos_i (1 - F_o) (1 - F_i) tr_o tr_i / eta^2, with
+            // cos_i <= cos_ti (refraction into a denser coat turns towards the normal), the
+            // Fresnel transmittance 1 - F_i and tr_i largest at the cone's highest direction,
+            // F_i <= 1 in the series' ratio, and the conductor's reflectance largest at an end
+            // of its interval (ConductorBxdf's bound).
+            float fo = fr_dielectric(u.wo.z, m_eta);
+            float tr_o = m_thickness > 0 ? std::exp(-m_thickness / to.z) : 1.f;
+            float ti_max = coat_inside(Vec3(safe_sqrt(1 - c_max * c_max), 0, c_max)).z;
+            float tr_i = m_thickness > 0 ? std::exp(-m_thickness / ti_max) : 1.f;
+            float t_i = 1 - fr_dielectric(c_max, m_eta);
+            RGB f_lo = fr_complex(mb.cos_h_lo, m_base_eta, m_base_k);
+            RGB f_hi = fr_complex(mb.cos_h_hi, m_base_eta, m_base_k);
+            RGB fb(std::max(f_lo.r, f_hi.r), std::max(f_lo.g, f_hi.g), std::max(f_lo.b, f_hi.b));
+            RGB series = coat_series(fb * (std::sqrt(fo) * tr_o));
+            bound += fb * series * (mb.dg * (1 - fo) * t_i * tr_o * tr_i / (m_eta * m_eta));
+        }
+    }
+    if (!m_trap.scale.is_black()) {
+        // eval_trapped cos_i: its wo factors exactly, its wi factors each at their largest over
+        // the cone (the trapped fraction at its largest node: it is interpolated linearly).
+        Vec3 to = coat_inside(u.wo),
+             ti_max = coat_inside(Vec3(safe_sqrt(1 - c_max * c_max), 0, c_max));
+        RGB t_max;
+        for (const RGB& t : m_trap.fraction)
+            t_max = RGB(std::max(t_max.r, t.r), std::max(t_max.g, t.g), std::max(t_max.b, t.b));
+        float fo = fr_dielectric(u.wo.z, m_eta);
+        float tr = m_thickness > 0 ? std::exp(-m_thickness / to.z - m_thickness / ti_max.z) : 1.f;
+        bound += trapped(to.z) * t_max * m_trap.scale *
+                 ((1 - fo) * (1 - fr_dielectric(c_max, m_eta)) * tr * c_max / (m_eta * m_eta));
+    }
+    if (!m_coat.effectively_smooth()) {
+        MicrofacetReflectionBound mb = microfacet_reflection_bound(m_coat, u.wo, u.cone);
+        bound += RGB(fr_dielectric(mb.cos_h_lo, m_eta) * mb.dg);
+    }
+    return bound;
+}
+
 }  // namespace ml

@@ -151,4 +151,67 @@ private:
     float m_base_weight;  // average escaping albedo, for lobe selection
 };
 
+// A dielectric coat over a conductor (pbrt-v4's CoatedConductorBxDF), in closed form: see
+// coated_conductor.cpp. eta: the coat's IOR; base_eta, base_k: the conductor's, relative to
+// the coat.
+// The light a coated conductor sends beyond the coat's critical angle and lets out after more
+// bounces (coated_conductor.cpp): a few hundred microfacet samples, so a material with constant
+// parameters computes it once.
+struct CoatedConductorTrap {
+    static constexpr int kNodes = 6;
+    float crit_cos = 1;    // the critical angle's cosine inside the coat
+    RGB fraction[kNodes];  // trapped fraction at inside cos from crit_cos to 1
+    RGB scale;             // K of eval_trapped
+    float weight = 0;      // for lobe selection
+};
+
+struct CoatedConductorLayers {
+    TrowbridgeReitz coat, base;
+    float eta = 1.5f;
+    RGB base_eta, base_k;
+    float thickness = 0.01f;
+    int base_visits = 5;                        // CoatLayer::visits_for_max_depth(maxdepth)
+    const CoatedConductorTrap* trap = nullptr;  // precomputed for these layers, or computed
+};
+
+class CoatedConductorBxdf final : public Bxdf {
+public:
+    explicit CoatedConductorBxdf(const CoatedConductorLayers& layers);
+    uint8_t flags() const override;
+    RGB eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    std::optional<BsdfSample> sample(const Vec3& wo, float uc, const Vec2& u,
+                                     TransportMode mode) const override;
+    float pdf_solid_angle(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+    RGB max_value_bound(const Vec3& wo, const DirectionCone& cone) const override;
+
+private:
+    // A smooth coat over a mirror: one delta lobe.
+    bool mirror_only() const { return m_coat.effectively_smooth() && m_base.effectively_smooth(); }
+    RGB mirror_weight(float cos_o) const;
+    // The probabilities of sampling the coat's lobe, the conductor's and the trapped light's.
+    void lobe_probabilities(float cos_o, float* p_coat, float* p_base, float* p_trap) const;
+    // For wo, wi on the +z side.
+    float eval_coat(const Vec3& wo, const Vec3& wi) const;
+    float pdf_coat(const Vec3& wo, const Vec3& wi) const;
+    RGB eval_base(const Vec3& wo, const Vec3& wi) const;
+    float pdf_base(const Vec3& wo, const Vec3& wi) const;
+    Vec3 coat_inside(const Vec3& w) const;  // w refracted into the coat (pointing up)
+    RGB coat_series(const RGB& q) const;    // sum_{k<base_visits} q^k
+
+    TrowbridgeReitz m_coat;
+    TrowbridgeReitz m_base;  // the conductor's, widened by the coat's roughness
+    float m_eta, m_thickness;
+    RGB m_base_eta, m_base_k;
+    int m_base_visits;
+    float m_base_weight;  // the conductor's reflectance at normal incidence, for lobe selection
+    // The light the conductor scatters beyond the coat's critical angle (trapped by total
+    // internal reflection) and that leaves after more bounces: see coated_conductor.cpp.
+    RGB trapped(float cos_t) const;  // the fraction trapped from inside direction cos_t
+    RGB eval_trapped(const Vec3& wo, const Vec3& wi) const;
+    CoatedConductorTrap m_trap;
+
+public:
+    static CoatedConductorTrap compute_trap(const CoatedConductorLayers& layers);
+};
+
 }  // namespace ml

@@ -1,5 +1,6 @@
 // The `Material` directive's factory: pbrt-v4's parameter names and defaults for diffuse,
-// conductor, dielectric, thindielectric, coateddiffuse and diffusetransmission.
+// conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, diffusetransmission,
+// mix and interface.
 #include "materials/create.h"
 
 #include "materials/materials.h"
@@ -66,11 +67,13 @@ public:
         return out;
     }
 
-    RoughnessParams roughness(float def) const {
+    // "roughness", "uroughness", "vroughness", each name after `prefix` (coatedconductor's
+    // "interface." and "conductor.").
+    RoughnessParams roughness(float def, const std::string& prefix = "") const {
         RoughnessParams r;
-        FloatParam both = get_float("roughness", def);
-        r.u = has("uroughness") ? get_float("uroughness", def) : both;
-        r.v = has("vroughness") ? get_float("vroughness", def) : both;
+        FloatParam both = get_float(prefix + "roughness", def);
+        r.u = has(prefix + "uroughness") ? get_float(prefix + "uroughness", def) : both;
+        r.v = has(prefix + "vroughness") ? get_float(prefix + "vroughness", def) : both;
         r.remap = m_params.get_bool("remaproughness", true);
         return r;
     }
@@ -182,18 +185,53 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
             if (it == named.end())
                 throw_input_error(at, "mix: undefined named material \"{}\"", names[size_t(i)]);
             m[i] = it->second;
+            if (m[i]->type() == "interface")
+                throw_input_error(at, "mix: the \"interface\" material \"{}\" cannot be mixed",
+                                  names[size_t(i)]);
         }
         return std::make_unique<MixMaterial>(m[0], m[1], mp.get_float("amount", 0.5f));
     }
     if (type == "interface") {
-        // A medium boundary that does not scatter: the volumetric path tracer passes through it.
-        struct InterfaceMaterial final : Material {
-            Bsdf get_bsdf(const SurfaceInteraction&, ScratchBuffer&) const override { return {}; }
-            std::string type() const override { return "interface"; }
-        };
+        if (displacement)
+            throw_input_error(loc_of(params, "displacement", loc),
+                              "interface: the material does not scatter; \"displacement\" has "
+                              "nothing to bump");
         return std::make_unique<InterfaceMaterial>();
     }
-    for (const char* pbrt : {"coatedconductor", "hair", "measured", "subsurface"})
+    if (type == "coatedconductor") {
+        CoatedConductorParams cc;
+        cc.interface_roughness = mp.roughness(0, "interface.");
+        cc.conductor_roughness = mp.roughness(0, "conductor.");
+        if (const Param* p = params.find("interface.eta")) {
+            // A float, or a spectrum averaged (no dispersion here); not a texture in pbrt-v4.
+            cc.eta = p->type == "float"
+                         ? params.get_float("interface.eta", 1.5f)
+                         : params.get_rgb("interface.eta").value_or(RGB(1.5f)).average();
+        }
+        cc.thickness = mp.get_float("thickness", 0.01f);
+        cc.use_reflectance = params.has("reflectance");
+        if (cc.use_reflectance && (params.has("conductor.eta") || params.has("conductor.k")))
+            throw_input_error(loc_of(params, "reflectance", loc),
+                              "coatedconductor: \"reflectance\" cannot be given with "
+                              "\"conductor.eta\" or \"conductor.k\"");
+        cc.conductor_eta = mp.get_rgb("conductor.eta", named_or_die("metal-Cu-eta"));
+        cc.conductor_k = mp.get_rgb("conductor.k", named_or_die("metal-Cu-k"));
+        cc.reflectance = mp.get_rgb("reflectance", RGB(0));
+        cc.maxdepth = params.get_int("maxdepth", 10);
+        // As for coateddiffuse: "nsamples" only changes pbrt-v4's noise, "g" only matters in a
+        // scattering coat, which is refused.
+        mp.get_float("g", 0);
+        params.get_int("nsamples", 1);
+        if (params.has("albedo")) {
+            RGBParam albedo = mp.get_rgb("albedo", RGB(0));
+            if (albedo.tex || !albedo.value.is_black())
+                throw_input_error(loc_of(params, "albedo", loc),
+                                  "coatedconductor: a non-zero \"albedo\" (scattering coat) is "
+                                  "not supported");
+        }
+        return std::make_unique<CoatedConductorMaterial>(std::move(cc), displacement);
+    }
+    for (const char* pbrt : {"hair", "measured", "subsurface"})
         if (type == pbrt)
             throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
                               type);

@@ -46,17 +46,23 @@ Bsdf DiffuseTransmissionMaterial::get_bsdf(const SurfaceInteraction& si,
     return Bsdf(frame(si), si.ng, scratch_new<DiffuseTransmissionBxdf>(scratch, r, t));
 }
 
+namespace {
+// A metal of the given normal-incidence reflectance (pbrt-v4's mapping): eta = 1,
+// k = 2 sqrt(r) / sqrt(1 - r).
+RGB k_for_reflectance(RGB r) {
+    r = RGB(std::clamp(r.r, 0.f, 0.9999f), std::clamp(r.g, 0.f, 0.9999f),
+            std::clamp(r.b, 0.f, 0.9999f));
+    return RGB(2 * std::sqrt(r.r) / std::sqrt(1 - r.r), 2 * std::sqrt(r.g) / std::sqrt(1 - r.g),
+               2 * std::sqrt(r.b) / std::sqrt(1 - r.b));
+}
+}  // namespace
+
 Bsdf ConductorMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
     TextureEvalContext ctx = context(si);
     RGB eta, k;
     if (m_use_reflectance) {
-        // A metal of the given normal-incidence reflectance: eta = 1, k = 2 sqrt(r) / sqrt(1 - r).
-        RGB r = m_reflectance.eval(ctx);
-        r = RGB(std::clamp(r.r, 0.f, 0.9999f), std::clamp(r.g, 0.f, 0.9999f),
-                std::clamp(r.b, 0.f, 0.9999f));
         eta = RGB(1);
-        k = RGB(2 * std::sqrt(r.r) / std::sqrt(1 - r.r), 2 * std::sqrt(r.g) / std::sqrt(1 - r.g),
-                2 * std::sqrt(r.b) / std::sqrt(1 - r.b));
+        k = k_for_reflectance(m_reflectance.eval(ctx));
     } else {
         eta = m_eta.eval(ctx);
         k = m_k.eval(ctx);
@@ -129,6 +135,48 @@ Bsdf CoatedDiffuseMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer
     return Bsdf(
         frame(si), si.ng,
         scratch_new<CoatedDiffuseBxdf>(scratch, m_roughness.distribution(ctx), eta, r, layer));
+}
+
+CoatedConductorMaterial::CoatedConductorMaterial(CoatedConductorParams params,
+                                                 std::shared_ptr<FloatTexture> displacement)
+    : MaterialBase(std::move(displacement)), m_params(std::move(params)) {
+    const CoatedConductorParams& p = m_params;
+    bool constant = !p.interface_roughness.u.tex && !p.interface_roughness.v.tex &&
+                    !p.conductor_roughness.u.tex && !p.conductor_roughness.v.tex &&
+                    !p.thickness.tex && !p.conductor_eta.tex && !p.conductor_k.tex &&
+                    !p.reflectance.tex;
+    if (constant)
+        m_trap = std::make_unique<CoatedConductorTrap>(
+            CoatedConductorBxdf::compute_trap(layers(TextureEvalContext{})));
+}
+
+CoatedConductorMaterial::~CoatedConductorMaterial() = default;
+
+Bsdf CoatedConductorMaterial::get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const {
+    CoatedConductorLayers l = layers(context(si));
+    l.trap = m_trap.get();
+    return Bsdf(frame(si), si.ng, scratch_new<CoatedConductorBxdf>(scratch, l));
+}
+
+CoatedConductorLayers CoatedConductorMaterial::layers(const TextureEvalContext& ctx) const {
+    const CoatedConductorParams& p = m_params;
+    CoatedConductorLayers l;
+    l.coat = p.interface_roughness.distribution(ctx);
+    l.base = p.conductor_roughness.distribution(ctx);
+    l.eta = p.eta == 0 ? 1.f : p.eta;
+    RGB eta = RGB(1), k;
+    if (p.use_reflectance) {
+        k = k_for_reflectance(p.reflectance.eval(ctx));
+    } else {
+        eta = p.conductor_eta.eval(ctx);
+        k = p.conductor_k.eval(ctx);
+    }
+    // The conductor's IOR relative to the coat's.
+    l.base_eta = eta / l.eta;
+    l.base_k = k / l.eta;
+    l.thickness = std::max(0.f, p.thickness.eval(ctx));
+    l.base_visits = CoatLayer::visits_for_max_depth(p.maxdepth);
+    return l;
 }
 
 }  // namespace ml

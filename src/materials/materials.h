@@ -169,4 +169,42 @@ private:
     std::unique_ptr<float[]> m_round_trip_table;
 };
 
+// pbrt-v4's "coatedconductor": a dielectric coat (roughness "interface.*", IOR "interface.eta")
+// over a conductor ("conductor.eta"/"conductor.k", or "reflectance"; roughness "conductor.*").
+struct CoatedConductorLayers;
+struct CoatedConductorTrap;
+struct CoatedConductorParams {
+    RoughnessParams interface_roughness, conductor_roughness;
+    float eta = 1.5f;
+    FloatParam thickness{0.01f, nullptr};
+    RGBParam conductor_eta, conductor_k, reflectance;
+    bool use_reflectance = false;
+    int maxdepth = 10;
+};
+
+class CoatedConductorMaterial final : public MaterialBase {
+public:
+    CoatedConductorMaterial(CoatedConductorParams params,
+                            std::shared_ptr<FloatTexture> displacement);
+    ~CoatedConductorMaterial() override;
+    Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
+    std::string type() const override { return "coatedconductor"; }
+
+private:
+    CoatedConductorLayers layers(const TextureEvalContext& ctx) const;
+    CoatedConductorParams m_params;
+    // With no texture among the parameters it depends on, the trapped light's tables, once.
+    std::unique_ptr<CoatedConductorTrap> m_trap;
+};
+
+// pbrt-v4's "interface": a surface that only marks where participating media meet and does not
+// scatter. manylight has no media, so such a shape has nothing to do: the scene builder leaves
+// it out of the scene (every ray passes straight through it, and an area light on it emits
+// nothing, as pbrt-v4 ignores it). Its get_bsdf is never reached; a mix naming it is refused.
+class InterfaceMaterial final : public Material {
+public:
+    Bsdf get_bsdf(const SurfaceInteraction&, ScratchBuffer&) const override { return Bsdf(); }
+    std::string type() const override { return "interface"; }
+};
+
 }  // namespace ml

@@ -549,6 +549,15 @@ SceneDesc SceneBuilder::finish() {
     for (const MeshSource& s : m_sources)
         if (s.error) std::rethrow_exception(s.error);
 
+    // Shapes of the "interface" material do not scatter: without a medium on either side they
+    // mark nothing and are left out, so every ray passes through them, and so is an area light
+    // on one (as pbrt-v4 ignores it). Between two media they stay: the volumetric path tracer
+    // passes through them into the medium beyond.
+    std::erase_if(m_shapes, [](const ShapeRecord& r) {
+        return r.material && r.material->type() == "interface" &&
+               r.inside_medium == r.outside_medium;
+    });
+
     // Media by name, now that every MakeNamedMedium is known (pbrt-v4 allows them after use).
     m_desc.camera_medium = find_medium(m_camera_medium, m_camera_medium_loc);
     std::vector<std::pair<const Medium*, const Medium*>> shape_media(m_shapes.size());
