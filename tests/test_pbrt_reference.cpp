@@ -69,3 +69,4 @@ TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
+TEST(PbrtReference, CurveShape) { expect_matches_pbrt("shape_curve"); }
