@@ -70,3 +70,4 @@ TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindiele
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
 TEST(PbrtReference, CurveShape) { expect_matches_pbrt("shape_curve"); }
+TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }
