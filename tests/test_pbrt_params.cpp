@@ -42,6 +42,8 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
     } else if (d == "Shape" && t == "bilinearmesh") {
         add("P", "\"point3 P\" [ 0 0 0  1 0 0  0 1 0  1 1 0 ]");
         add("indices", "\"integer indices\" [ 0 1 2 3 ]");
+    } else if (d == "Shape" && t == "curve") {
+        add("P", "\"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ]");
     } else if (d == "Shape" && t == "plymesh") {
         add("filename", "\"string filename\" \"" + dir + "/tri.ply\"");
     } else if ((d.rfind("Texture", 0) == 0 && t == "imagemap") ||

@@ -80,3 +80,5 @@ TEST(PbrtReference, CoatedConductorMaterialDepth2) {
     expect_matches_pbrt("mat_coatedconductor_depth2");
 }
 TEST(PbrtReference, InterfaceMaterial) { expect_matches_pbrt("mat_interface"); }
+TEST(PbrtReference, CurveShape) { expect_matches_pbrt("shape_curve"); }
+TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }

@@ -288,9 +288,9 @@ TEST_F(TextureTest, MaterialTexturesAndErrors) {
         EXPECT_NE(std::string(e.what()).find("undefined"), std::string::npos);
     }
     try {
-        bad("hair", {});
+        bad("measured", {});
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("\"hair\" is not supported"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("\"measured\" is not supported"), std::string::npos);
     }
     try {
         bad("plastic", {});

@@ -45,6 +45,7 @@ public:
     float motion_time(float time) const;
 
 private:
+    void add_curves(const TriangleMesh& m, unsigned id);
     bool intersect_as(const Ray& ray, SurfaceInteraction* si, bool emitters_only) const;
     template <int N, typename RayHitN>
     void intersect_n(const Ray* rays, const bool* active, SurfaceInteraction* si, bool* hit) const;

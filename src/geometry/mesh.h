@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/math.h"
@@ -21,6 +22,19 @@ public:
     virtual ~AlphaMask() = default;
     // At point p with texture coordinates uv on a surface of geometric normal ng (any length).
     virtual float eval(const Vec3& p, const Vec2& uv, const Vec3& ng) const = 0;
+};
+
+// pbrt-v4's "curve" shape as Embree curves: each segment a cubic Bezier whose four control
+// points are the mesh's p[4 * s .. 4 * s + 3] (world space; a curve mesh has no triangles).
+enum class CurveType { flat, cylinder, ribbon };
+struct CurveSet {
+    CurveType type = CurveType::flat;
+    std::vector<float> width;  // 2 per segment: the width at u = 0 and u = 1 (world units)
+    std::vector<Vec3> n;       // ribbon: 2 per segment, the unit normals at u = 0 and u = 1
+    // The object-to-world transform reverses handedness: normals computed from world-space
+    // cross products are negated to agree with pbrt-v4, which takes them in object space.
+    bool swaps_handedness = false;
+    size_t segment_count() const { return width.size() / 2; }
 };
 
 struct TriangleMesh {
@@ -48,6 +62,8 @@ struct TriangleMesh {
     int motion_steps = 0;
     std::vector<Vec3> motion_p, motion_n;
     bool moves() const { return motion_steps >= 2; }
+    // Set for a curve shape (then p holds control points and indices is empty).
+    std::optional<CurveSet> curves;
 
     size_t triangle_count() const { return indices.size() / 3; }
     float triangle_area(size_t tri) const {

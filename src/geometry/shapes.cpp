@@ -5,6 +5,7 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
+#include "geometry/curves.h"
 
 namespace ml {
 
@@ -244,6 +245,7 @@ void transform_mesh(TriangleMesh& mesh, const Transform& to_world, bool reverse_
         }
     });
     mesh.flip_normals = reverse_orientation != to_world.swaps_handedness();
+    if (mesh.curves) transform_curves(*mesh.curves, to_world);
     if (mesh.n.empty()) return;
     const size_t nt = mesh.triangle_count();
     parallel_for_chunks(size_t(0), nt, size_t(1) << 14, [&](size_t begin, size_t end) {

@@ -3,6 +3,7 @@
 // mix and interface.
 #include "materials/create.h"
 
+#include "materials/hair.h"
 #include "materials/materials.h"
 #include "materials/textures.h"
 
@@ -231,7 +232,30 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
         }
         return std::make_unique<CoatedConductorMaterial>(std::move(cc), displacement);
     }
-    for (const char* pbrt : {"hair", "measured", "subsurface"})
+    if (type == "hair") {
+        // pbrt-v4's precedence: sigma_a, else reflectance (or its older name "color"), else the
+        // melanin concentrations, else eumelanin 1.3. Whatever is overridden is still read
+        // (pbrt-v4 only warns about it).
+        using Source = HairMaterial::Source;
+        RGBParam sigma_a = mp.get_rgb("sigma_a", RGB(0));
+        RGBParam reflectance = mp.get_rgb("reflectance", RGB(0));
+        RGBParam color = mp.get_rgb("color", RGB(0));
+        FloatParam eu = mp.get_float("eumelanin", 0), pheo = mp.get_float("pheomelanin", 0);
+        Source source = Source::melanin;
+        RGBParam colour;
+        if (params.has("sigma_a")) {
+            source = Source::sigma_a, colour = sigma_a;
+        } else if (params.has("reflectance") || params.has("color")) {
+            source = Source::reflectance;
+            colour = params.has("reflectance") ? reflectance : color;
+        } else if (!params.has("eumelanin") && !params.has("pheomelanin")) {
+            eu = FloatParam{1.3f, nullptr};
+        }
+        return std::make_unique<HairMaterial>(
+            source, colour, eu, pheo, mp.get_float("eta", 1.55f), mp.get_float("beta_m", 0.3f),
+            mp.get_float("beta_n", 0.3f), mp.get_float("alpha", 2.f));
+    }
+    for (const char* pbrt : {"measured", "subsurface"})
         if (type == pbrt)
             throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
                               type);

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/parallel.h"
+#include "geometry/curves.h"
 #include "geometry/ply.h"
 #include "geometry/shapes.h"
 #include "lights/create.h"
@@ -464,7 +465,18 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         std::error_code ec;
         if (!std::filesystem::exists(src.ply_path, ec))
             throw_input_error(f->loc, "{}: no such file", src.ply_path);
-    } else if (type == "curve" || type == "loopsubdiv") {
+    } else if (type == "curve") {
+        src.mesh = make_curves(params, loc);
+        // pbrt-v4 cannot sample points on curves (Curve::Sample is not implemented), so curves
+        // cannot emit there either.
+        if (m_state.area_light && !m_current_object)
+            throw_input_error(loc,
+                              "an area light on a curve (AreaLightSource at {}) is not supported "
+                              "(pbrt-v4 cannot sample curves either)",
+                              m_state.area_light->loc.to_string());
+        if (const Param* a = params.find("alpha"))
+            throw_input_error(a->loc, "curve: \"alpha\" is not supported by manylight");
+    } else if (type == "loopsubdiv") {
         throw_input_error(loc, "the pbrt-v4 shape \"{}\" is not supported by manylight", type);
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);
@@ -578,6 +590,9 @@ SceneDesc SceneBuilder::finish() {
         AnimatedTransform obj(r.to_world[0], t0, r.to_world[1], t1);
         AnimatedTransform inst(r.instance[0], t0, r.instance[1], t1);
         if (!obj.is_animated() && !inst.is_animated()) continue;
+        if (m_sources[r.source].mesh && m_sources[r.source].mesh->curves)
+            throw_input_error(r.loc,
+                              "a curve under an animated transform is not supported by manylight");
         if (r.area_light)
             throw_input_error(r.loc,
                               "a shape under an animated transform cannot be an area light "

@@ -12,7 +12,8 @@ names=("$@")
   camera_equalarea tex_bilerp tex_dots tex_fbm tex_wrinkled tex_windy tex_marble tex_mix
   tex_directionmix mat_thindielectric mat_mix shape_cylinder media_fog media_grid
   light_goniometric light_projection light_area_image mat_coateddiffuse mat_coatedconductor
-  mat_coatedconductor_depth2 mat_interface)
+  mat_coatedconductor_depth2 mat_interface
+  shape_curve mat_hair)
 for n in "${names[@]}"; do
   echo "== $n"
   "$pbrt" --quiet --spp 1024 --seed 1 --outfile "$n.exr" "$n.pbrt"
