@@ -3,6 +3,7 @@
 // whose y and z axes are the light space's swapped, so that the image's centre is the light's +y
 // (create_light folds that swap into `image_to_world`). Paths leave by the image's density: a
 // pixel by its value, then a uniform point of it, so that I / pdf is constant.
+#include "lights/image_point_light.h"
 #include "lights/lights.h"
 #include "lights/point_lights.h"
 #include "sampling/distributions.h"
@@ -11,11 +12,11 @@
 namespace ml {
 namespace {
 
-class GoniometricLight final : public Light {
+class GoniometricLight final : public ImagePointLight {
 public:
     GoniometricLight(const Transform& image_to_world, const RGB& I, std::vector<float> values,
                      int res)
-        : m_p(image_to_world.point(Vec3(0, 0, 0))),
+        : ImagePointLight(image_to_world.point(Vec3(0, 0, 0))),
           m_to_world(image_to_world),
           m_to_image(image_to_world.inverse()),
           m_I(I),
@@ -28,26 +29,6 @@ public:
         }
         m_mean = float(sum / double(m_values.size()));
         m_dist = Distribution2D(m_values, m_res, m_res);
-    }
-    LightType type() const override { return LightType::DeltaPosition; }
-
-    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
-                                           const Vec2& u) const override {
-        Vec3 d = m_p - ctx.p;
-        float d2 = length_squared(d);
-        if (!(d2 > 0)) return std::nullopt;
-        LightLiSample s;
-        s.wi = d / std::sqrt(d2);
-        RGB I = emitted_intensity(-s.wi);
-        if (I.is_black()) return std::nullopt;
-        s.L = I / d2;
-        s.pdf_solid_angle = 1;
-        s.p_light = m_p;
-        return s;
-    }
-    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&,
-                 uint32_t) const override {
-        return 0;
     }
     RGB emitted_intensity(const Vec3& w) const override {
         return m_I * value(equal_area_sphere_to_square(normalize(m_to_image.vector(w))));
@@ -101,7 +82,6 @@ private:
         return m_values[size_t(y) * size_t(m_res) + size_t(x)];
     }
 
-    Vec3 m_p;
     Transform m_to_world, m_to_image;
     RGB m_I;
     std::vector<float> m_values;  // res x res, row-major, top row first, non-negative

@@ -5,6 +5,7 @@
 // aspect a >= 1 ([-1, 1] x [-1/a, 1/a] otherwise: fov spans the shorter side). The intensity is
 // scale times the nearest pixel. Paths leave by the pixels' average value times the solid angle
 // they cover, cos^3 at their centre per unit screen area, uniformly within a pixel.
+#include "lights/image_point_light.h"
 #include "lights/lights.h"
 #include "lights/point_lights.h"
 #include "sampling/distributions.h"
@@ -14,10 +15,10 @@ namespace {
 
 constexpr float kHither = 1e-3f;
 
-class ProjectionLight final : public Light {
+class ProjectionLight final : public ImagePointLight {
 public:
     ProjectionLight(const Transform& light_to_world, Image image, float fov_degrees)
-        : m_p(light_to_world.point(Vec3(0, 0, 0))),
+        : ImagePointLight(light_to_world.point(Vec3(0, 0, 0))),
           m_to_world(light_to_world * Transform::scale(Vec3(1, -1, 1))),
           m_to_light(m_to_world.inverse()),
           m_image(std::move(image)) {
@@ -44,26 +45,6 @@ public:
         Vec3 corner = normalize(Vec3(m_hi.x * m_tan, m_hi.y * m_tan, 1));
         m_cos_corner = corner.z;
         m_axis = normalize(m_to_world.vector(Vec3(0, 0, 1)));
-    }
-    LightType type() const override { return LightType::DeltaPosition; }
-
-    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
-                                           const Vec2& u) const override {
-        Vec3 d = m_p - ctx.p;
-        float d2 = length_squared(d);
-        if (!(d2 > 0)) return std::nullopt;
-        LightLiSample s;
-        s.wi = d / std::sqrt(d2);
-        RGB I = emitted_intensity(-s.wi);
-        if (I.is_black()) return std::nullopt;
-        s.L = I / d2;
-        s.pdf_solid_angle = 1;
-        s.p_light = m_p;
-        return s;
-    }
-    float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&,
-                 uint32_t) const override {
-        return 0;
     }
     RGB emitted_intensity(const Vec3& w) const override {
         Vec2 uv;
@@ -140,7 +121,6 @@ private:
         return m_image.at(x, y);
     }
 
-    Vec3 m_p;
     Transform m_to_world, m_to_light;  // light space with y flipped
     Image m_image;                     // linear, scaled, non-negative
     Vec2 m_lo, m_hi;                   // the screen window
