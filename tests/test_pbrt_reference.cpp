@@ -69,3 +69,6 @@ TEST(PbrtReference, DirectionMixTexture) { expect_matches_pbrt("tex_directionmix
 TEST(PbrtReference, ThinDielectricMaterial) { expect_matches_pbrt("mat_thindielectric"); }
 TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
+TEST(PbrtReference, RealisticCamera) { expect_matches_pbrt("camera_realistic"); }
+TEST(PbrtReference, RealisticCameraStarAperture) { expect_matches_pbrt("camera_realistic_star"); }
+TEST(PbrtReference, LoopSubdivShape) { expect_matches_pbrt("shape_loopsubdiv"); }

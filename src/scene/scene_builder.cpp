@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/parallel.h"
+#include "geometry/loop_subdiv.h"
 #include "geometry/ply.h"
 #include "geometry/shapes.h"
 #include "lights/create.h"
@@ -460,7 +461,9 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         std::error_code ec;
         if (!std::filesystem::exists(src.ply_path, ec))
             throw_input_error(f->loc, "{}: no such file", src.ply_path);
-    } else if (type == "curve" || type == "loopsubdiv") {
+    } else if (type == "loopsubdiv") {
+        src.mesh = make_loop_subdiv(params, loc);
+    } else if (type == "curve") {
         throw_input_error(loc, "the pbrt-v4 shape \"{}\" is not supported by manylight", type);
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);

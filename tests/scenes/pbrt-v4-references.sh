@@ -10,7 +10,8 @@ cd "$(dirname "$0")"
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=(camera_orthographic camera_orthographic_lens camera_equirect
   camera_equalarea tex_bilerp tex_dots tex_fbm tex_wrinkled tex_windy tex_marble tex_mix
-  tex_directionmix mat_thindielectric mat_mix shape_cylinder)
+  tex_directionmix mat_thindielectric mat_mix shape_cylinder camera_realistic
+  camera_realistic_star shape_loopsubdiv)
 for n in "${names[@]}"; do
   echo "== $n"
   "$pbrt" --quiet --spp 1024 --seed 1 --outfile "$n.exr" "$n.pbrt"
