@@ -60,7 +60,7 @@ TEST(RealisticCamera, SampledWeightsMatchTheIntegralOverTheWholeRearElement) {
         LensSystem lens = dgauss(aperture, 5.f);
         for (Vec2 s : {Vec2(0.5f, 0.5f), Vec2(0.8f, 0.35f), Vec2(0.02f, 0.97f)}) {
             SCOPED_TRACE(fmt::format("aperture {} film {},{}", aperture, s.x, s.y));
-            double expected = brute_force(lens, s, film_w, film_h, 0.010f, 1200);
+            double expected = brute_force(lens, s, film_w, film_h, 0.010f, 800);
             double got = sampled_mean(lens, s, 400);
             ASSERT_GT(expected, 0);
             EXPECT_NEAR(got / expected, 1.0, 0.01) << got << " vs " << expected;
@@ -88,24 +88,24 @@ TEST(RealisticCamera, ExitPupilBoundsHoldEveryRayThatPasses) {
 }
 
 TEST(RealisticCamera, FocusesTheFocusDistanceOntoTheFilm) {
-    // Rays from an axial point at the focus distance, through the lens, meet the film (z = 0)
-    // near its centre: within a 50th of a millimetre (under 1/1000 of the film).
+    // pbrt-v4 measures the focus distance from the film. Rays from the axial point there,
+    // through the front element at up to 3 mm from the axis, meet the film (z = 0) within
+    // 10 microns of its centre (a pixel of a 96-pixel image is 300).
     for (float focus : {1.f, 5.f, 100.f}) {
         LensSystem lens = dgauss(8.f, focus);
-        Vec3 src(0, 0, lens.front_z() + focus);
+        const Vec3 src(0, 0, focus);
         double max_r = 0;
-        int passed = 0;
         for (int i = 1; i <= 10; ++i) {
-            // Aim at points of the front element out to 3 mm from the axis.
-            Vec3 target(0.0003f * i, 0, lens.front_z());
+            const Vec3 target(0.0003f * i, 0, lens.front_z());
+            const Vec3 d = normalize(target - src);
+            // Start a centimetre before the lens: float rays from 100 m lose the element.
             Ray out;
-            if (!lens.trace_from_scene(Ray{src, normalize(target - src)}, &out)) continue;
-            ++passed;
-            float t = -out.o.z / out.d.z;
+            ASSERT_TRUE(lens.trace_from_scene(Ray{target - d * 0.01f, d}, &out))
+                << focus << " " << i;
+            const float t = -out.o.z / out.d.z;
             max_r = std::max(max_r, double(std::abs(out.at(t).x)));
         }
-        EXPECT_GE(passed, 8) << focus;
-        EXPECT_LT(max_r, 2e-5) << focus;
+        EXPECT_LT(max_r, 1e-5) << focus;
     }
 }
 
@@ -122,12 +122,14 @@ TEST(RealisticCamera, ApertureShapesPassAsMuchLightAsTheRoundStop) {
         EXPECT_NEAR(got / round, 1.0, 0.03);
     }
     // The square passes the middle half of each axis (4 x pi/4 / 4 = pi/4 inside, 0 outside);
-    // the star has a point up and none down (after pbrt-v4's flip of rows).
+    // the star has a point towards -x and a notch towards +x.
     ApertureImage square = ApertureImage::builtin("square");
     EXPECT_NEAR(square.lookup(0.2f, -0.3f), kPi, 1e-4);
     EXPECT_EQ(square.lookup(0.7f, 0.f), 0.f);
     ApertureImage star = ApertureImage::builtin("star");
-    EXPECT_GT(star.lookup(0.f, -0.9f) + star.lookup(0.f, 0.9f), 0.f);
+    EXPECT_GT(star.lookup(-0.9f, 0.f), 0.f);
+    EXPECT_EQ(star.lookup(0.9f, 0.f), 0.f);
+    EXPECT_GT(star.lookup(0.f, 0.f), 0.f);
     EXPECT_TRUE(ApertureImage::builtin("hexagon").empty());
 }
 
@@ -157,11 +159,11 @@ void expect_render_error(const std::string& text, int line, int column,
 
 }  // namespace
 
-TEST(RealisticCamera, FurnaceImageIsTheProjectedSolidAngleOfTheExitPupil) {
+TEST(RealisticCamera, LitFloorImageIsItsRadianceTimesTheMeanRayWeight) {
     // A lit floor of radiance 0.5 fills the view: each pixel is 0.5 times the mean camera
     // weight over the pupil, which the brute-force integral gives for the centre pixels.
     RenderOptions opt;
-    opt.spp = 256;
+    opt.spp = 1024;  // about 0.8% standard error over the 4 centre pixels
     opt.threads = 1;
     Image img =
         ml::test::render_text(realistic_scene(" \"float aperturediameter\" [ 8 ]"), opt).image;
@@ -208,13 +210,13 @@ TEST(RealisticCamera, ManyLightIntegratorsAgreeWithPath) {
     // The camera weight reaches every integrator's film: the same lit floor through each.
     RenderOptions opt;
     opt.spp = 16;
-    opt.threads = 1;
     const std::string scene = realistic_scene(" \"float aperturediameter\" [ 8 ]");
     opt.integrator = "path";
     double path = ml::test::channel_stats(ml::test::render_text(scene, opt).image, 1).mean;
     ASSERT_GT(path, 0);
-    for (const char* integrator : {"direct", "vpl", "lightcuts", "stochasticlightcuts",
-                                   "mdlightcuts", "bdlightcuts", "igi"}) {
+    // Each with its own way to the film (vpl and stochasticlightcuts share direct's,
+    // PixelIntegrator::render).
+    for (const char* integrator : {"direct", "lightcuts", "mdlightcuts", "bdlightcuts", "igi"}) {
         SCOPED_TRACE(integrator);
         opt.integrator = integrator;
         double m = ml::test::channel_stats(ml::test::render_text(scene, opt).image, 1).mean;
