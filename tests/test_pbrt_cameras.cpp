@@ -225,11 +225,6 @@ TEST(CameraImportance, LightPathIntegratorsRefuseCamerasWithoutIt) {
     }
 }
 
-TEST(CameraImportance, RealisticCameraIsRefusedByName) {
-    expect_render_error("Camera \"realistic\"\nWorldBegin\n", 1, 1,
-                        "camera \"realistic\" (lens systems) is not supported");
-}
-
 TEST(CylinderShape, SideViewIsLitAsTheCosineAcrossIt) {
     // An orthographic view across a cylinder of radius 0.8 (taller than the view), lit along
     // the view by radiance pi, albedo 0.5: at x the radiance is 0.5 sqrt(1 - (x / 0.8)^2), so the

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <filesystem>
 #include <set>
 #include <string>
 
@@ -54,6 +55,11 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
         add("nx", "\"integer nx\" [ 2 ]");
     } else if (d == "Material" && t == "mix") {
         add("materials", "\"string materials\" [ \"ma\" \"mb\" ]");
+    } else if (d == "Shape" && t == "loopsubdiv") {
+        add("P", "\"point3 P\" [ 1 1 1  1 -1 -1  -1 1 -1  -1 -1 1 ]");
+        add("indices", "\"integer indices\" [ 0 1 2  0 3 1  0 2 3  1 3 2 ]");
+    } else if (d == "Camera" && t == "realistic") {
+        add("lensfile", "\"string lensfile\" \"" + dir + "/lens.dat\"");
     } else if (d == "Film") {
         add("xresolution", "\"integer xresolution\" [ 2 ]");
         add("yresolution", "\"integer yresolution\" [ 2 ]");
@@ -122,6 +128,8 @@ protected:
         for (RGB& p : tex.pixels) p = RGB(0.25f);
         write_image(m_dir.file("env.exr"), env);
         write_image(m_dir.file("tex.exr"), tex);
+        std::filesystem::copy_file(MANYLIGHT_SOURCE_DIR "/tests/scenes/dgauss_50mm.dat",
+                                   m_dir.file("lens.dat"));
         m_dir.write("tri.ply",
                     ml::test::binary_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}));
     }

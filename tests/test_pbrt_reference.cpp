@@ -82,3 +82,6 @@ TEST(PbrtReference, CoatedConductorMaterialDepth2) {
 TEST(PbrtReference, InterfaceMaterial) { expect_matches_pbrt("mat_interface"); }
 TEST(PbrtReference, CurveShape) { expect_matches_pbrt("shape_curve"); }
 TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }
+TEST(PbrtReference, RealisticCamera) { expect_matches_pbrt("camera_realistic"); }
+TEST(PbrtReference, RealisticCameraStarAperture) { expect_matches_pbrt("camera_realistic_star"); }
+TEST(PbrtReference, LoopSubdivShape) { expect_matches_pbrt("shape_loopsubdiv"); }

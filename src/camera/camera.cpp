@@ -1,6 +1,8 @@
 #include "camera/camera.h"
 
 #include <algorithm>
+#include <filesystem>
+#include <stdexcept>
 #include <utility>
 
 #include "sampling/warps.h"
@@ -9,7 +11,8 @@ namespace ml {
 
 PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
                                      const AnimatedTransform& camera_to_world, int width,
-                                     int height, const std::string& type)
+                                     int height, const std::string& type, float film_diagonal_mm,
+                                     const std::string& base_dir)
     : m_motion(camera_to_world),
       m_moves(camera_to_world.is_animated()),
       m_camera_to_world(camera_to_world.start()),
@@ -30,10 +33,29 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
                               "unknown spherical camera mapping \"{}\" (\"equalarea\" or "
                               "\"equirectangular\")",
                               mapping);
+    } else if (type == "realistic") {
+        m_projection = Projection::Realistic;
     } else {
         throw_input_error(params.loc(),
-                          "unsupported camera \"{}\" (perspective, orthographic and spherical are)",
+                          "unsupported camera \"{}\" (perspective, orthographic, spherical and "
+                          "realistic are)",
                           type);
+    }
+    if (m_projection == Projection::Realistic) {
+        // pbrt-v4's realistic camera reads none of the projective cameras' parameters.
+        make_lens_system(params, film_diagonal_mm, base_dir);
+        m_tan_half_fov = 1, m_lens_radius = 0, m_focal_distance = 1e6f;
+        m_screen[0] = m_screen[2] = -1, m_screen[1] = m_screen[3] = 1;
+        m_image_area = 4;
+        m_shutter_open = params.get_float("shutteropen", 0.f);
+        m_shutter_close = params.get_float("shutterclose", 1.f);
+        if (!(m_shutter_close >= m_shutter_open))
+            throw_input_error(params.loc(),
+                              "\"shutterclose\" ({}) must not be less than \"shutteropen\" ({})",
+                              m_shutter_close, m_shutter_open);
+        m_world_to_camera = m_camera_to_world.inverse();
+        m_forward = normalize(m_camera_to_world.vector(Vec3(0, 0, 1)));
+        return;
     }
     // The orthographic camera's screen window is in camera-space units at z = 0 (pbrt-v4's
     // Orthographic(0, 1) is the identity on x and y): as a tangent of one, the perspective code
@@ -80,13 +102,49 @@ Vec2 PerspectiveCamera::raster_of(const Vec3& p) const {
                 (m_screen[3] - sy) / (m_screen[3] - m_screen[2]) * m_height);
 }
 
+void PerspectiveCamera::make_lens_system(const ParameterList& params, float film_diagonal_mm,
+                                         const std::string& base_dir) {
+    const Param* file = params.find("lensfile");
+    std::string name = params.get_string("lensfile", "");
+    if (!file || name.empty())
+        throw_input_error(params.loc(), "realistic camera: \"string lensfile\" is required");
+    std::filesystem::path path(name);
+    if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+    std::vector<float> table = read_lens_table(path.lexically_normal().string(), file->loc);
+    float aperture_diameter = params.get_float("aperturediameter", 1.f);
+    float focus_distance = params.get_float("focusdistance", 10.f);
+    if (!(aperture_diameter > 0))
+        throw_input_error(params.find("aperturediameter")->loc,
+                          "realistic camera: \"aperturediameter\" must be positive");
+    if (!(focus_distance > 0))
+        throw_input_error(params.find("focusdistance")->loc,
+                          "realistic camera: \"focusdistance\" must be positive");
+    ApertureImage aperture;
+    if (const Param* a = params.find("aperture")) {
+        std::string shape = params.get_string("aperture", "");
+        if (!shape.empty() && !ApertureImage::is_builtin_name(shape))
+            throw_input_error(a->loc,
+                              "realistic camera: aperture \"{}\": images as apertures are not "
+                              "supported by manylight (the built-in \"gaussian\", \"square\", "
+                              "\"pentagon\" and \"star\" are)",
+                              shape);
+        aperture = ApertureImage::builtin(shape);
+    }
+    if (!(film_diagonal_mm > 0))
+        throw_input_error(params.loc(),
+                          "realistic camera: the film's \"diagonal\" must be positive");
+    m_lens = std::make_shared<const LensSystem>(table, aperture_diameter, focus_distance,
+                                                film_diagonal_mm, float(m_height) / float(m_width),
+                                                std::move(aperture), params.loc());
+}
+
 void PerspectiveCamera::require_importance() const {
     if (!has_importance())
         throw InputError(
             m_loc,
-            "the orthographic and spherical cameras have no importance function: light paths "
-            "cannot reach them, so light tracing, BDPT and Metropolis need the perspective "
-            "camera");
+            "the orthographic, spherical and realistic cameras have no importance function: "
+            "light paths cannot reach them, so light tracing, BDPT and Metropolis need the "
+            "perspective camera");
 }
 
 float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
@@ -141,10 +199,22 @@ std::optional<CameraWiSample> PerspectiveCamera::sample_wi(const Vec3& p_ref, co
     return s;
 }
 
-Ray PerspectiveCamera::generate_ray(const CameraSample& s) const {
-    Ray ray = m_projection == Projection::Perspective    ? perspective_ray(s)
+Ray PerspectiveCamera::generate_ray(const CameraSample& s, float* weight) const {
+    Ray ray;
+    if (m_projection == Projection::Realistic) {
+        if (!weight)
+            throw std::logic_error(
+                "generate_ray: the realistic camera's rays carry weights the caller must take");
+        LensRay lr = m_lens->generate(
+            Vec2(s.p_film.x / float(m_width), s.p_film.y / float(m_height)), s.p_lens);
+        *weight = lr.weight;
+        ray = lr.weight > 0 ? lr.ray : Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)};
+    } else {
+        if (weight) *weight = 1;
+        ray = m_projection == Projection::Perspective    ? perspective_ray(s)
               : m_projection == Projection::Orthographic ? orthographic_ray(s)
                                                          : spherical_ray(s);
+    }
     ray.time = sample_time(s.time);
     const Transform c2w = camera_to_world(ray.time);
     ray.o = c2w.point(ray.o);

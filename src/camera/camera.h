@@ -1,6 +1,7 @@
-// pbrt-v4's cameras but "realistic": "perspective" with a thin lens (fov spans the shorter image
-// axis), "orthographic" (thin lens as pbrt-v4 has it) and "spherical" (the whole sphere of
-// directions, equirectangular or equal-area). Camera space looks down +z with +y up and +x to the
+// pbrt-v4's cameras: "perspective" with a thin lens (fov spans the shorter image axis),
+// "orthographic" (thin lens as pbrt-v4 has it), "spherical" (the whole sphere of directions,
+// equirectangular or equal-area) and "realistic" (a lens system, camera/lens_system.h, whose rays
+// carry a weight: generate_ray's). Camera space looks down +z with +y up and +x to the
 // right of the image. Light tracing and BDPT need the camera's importance (We, its pdfs and
 // sample_wi): only the perspective camera has it (pbrt-v4's other cameras lack it too).
 #pragma once
@@ -8,7 +9,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "camera/lens_system.h"
 #include "core/animated_transform.h"
 #include "core/math.h"
 #include "core/params.h"
@@ -30,7 +33,7 @@ struct CameraWiSample {
     Vec2 p_raster;              // where the scene point lands on the film, pixels
 };
 
-enum class Projection { Perspective, Orthographic, Spherical };
+enum class Projection { Perspective, Orthographic, Spherical, Realistic };
 enum class SphericalMapping { EquiRectangular, EqualArea };
 
 class PerspectiveCamera {
@@ -39,15 +42,23 @@ public:
     // "shutteropen", "shutterclose" from `params`. The camera may move (an animated
     // camera-to-world transform, as pbrt-v4's CameraTransform): every query then takes the
     // time, from the ray's time or as an argument.
-    // `type` is pbrt-v4's camera name: "perspective", "orthographic" or "spherical" (which
-    // reads "mapping" too; "fov" is the perspective camera's alone).
+    // `type` is pbrt-v4's camera name: "perspective", "orthographic", "spherical" (which
+    // reads "mapping" too; "fov" is the perspective camera's alone) or "realistic" (which reads
+    // "lensfile", relative to `base_dir`, "aperturediameter", "focusdistance", "aperture" and
+    // the shutter, and images onto a film `film_diagonal_mm` across).
     PerspectiveCamera(const ParameterList& params, const AnimatedTransform& camera_to_world,
-                      int width, int height, const std::string& type = "perspective");
+                      int width, int height, const std::string& type = "perspective",
+                      float film_diagonal_mm = 35.f, const std::string& base_dir = "");
     Projection projection() const { return m_projection; }
     // Whether importance(), pdf_we() and sample_wi() exist (the perspective camera's alone).
     bool has_importance() const { return m_projection == Projection::Perspective; }
-    // The ray's time is the shutter's at the fraction s.time.
-    Ray generate_ray(const CameraSample& s) const;
+    // The ray's time is the shutter's at the fraction s.time. `weight` receives the ray's weight
+    // (pbrt-v4's CameraRay::weight), by which the radiance along it is multiplied: 1 but for the
+    // realistic camera, whose rays are vignetted (0: no ray) and weighted by cos^4; callers
+    // that pass none must not meet a realistic camera (has_ray_weights()).
+    Ray generate_ray(const CameraSample& s, float* weight = nullptr) const;
+    // Whether generate_ray's rays carry weights other than 1 (the realistic camera's).
+    bool has_ray_weights() const { return m_projection == Projection::Realistic; }
     // The time at the fraction u of the shutter: how paths without a camera ray (light tracer
     // paths, VPL paths) draw theirs, with the same distribution as generate_ray.
     float sample_time(float u) const { return lerp(u, m_shutter_open, m_shutter_close); }
@@ -89,6 +100,10 @@ private:
     Ray perspective_ray(const CameraSample& s) const;
     Ray orthographic_ray(const CameraSample& s) const;
     Ray spherical_ray(const CameraSample& s) const;
+    // Reads the realistic camera's parameters and builds its lens system.
+    void make_lens_system(const ParameterList& params, float film_diagonal_mm,
+                          const std::string& base_dir);
+    std::shared_ptr<const LensSystem> m_lens;  // the realistic camera's
     Projection m_projection = Projection::Perspective;
     SphericalMapping m_mapping = SphericalMapping::EqualArea;
     Transform world_to_camera(float time) const {

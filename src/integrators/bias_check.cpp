@@ -174,9 +174,12 @@ BiasCheckResult run_bias_check(const BiasCheckInput& in, const BiasCheckOptions&
             ThreadState& ts = states.local();
             for (int64_t s = s0; s < s1; ++s) {
                 ts.sampler->start_pixel_sample(pixels[i], int(s));
-                float weight;
-                Ray ray = pixel_sample_ray(ctx, pixels[i], *ts.sampler, &weight);
-                RGB L = path.li(ray, in.scene, *ts.sampler, ts.scratch, pixels[i]);
+                float weight, camera_weight;
+                Ray ray = pixel_sample_ray(ctx, pixels[i], *ts.sampler, &weight, &camera_weight);
+                RGB L =
+                    camera_weight > 0
+                        ? path.li(ray, in.scene, *ts.sampler, ts.scratch, pixels[i]) * camera_weight
+                        : RGB();
                 film.add_sample(Point2i{int(i), 0}, L, weight);
                 ts.scratch.reset();
             }

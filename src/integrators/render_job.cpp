@@ -98,7 +98,7 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     plan.output_hint = film_params.get_string("filename", "");
     float max_component = film_params.get_float("maxcomponentvalue", kInfinity);
     film_params.get_bool("savefp16", true);
-    film_params.get_float("diagonal", 35.f);
+    const float film_diagonal = film_params.get_float("diagonal", 35.f);
     // pbrt-v4's RGB film scales what its sensor sees by exposuretime * iso / 100. Its default
     // sensor, cie1931, with no white balance, is the identity on RGB; the spectral sensors and
     // white balancing need spectra, which manylight does not carry, so they are errors.
@@ -146,12 +146,9 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     AnimatedTransform camera_to_world =
         opt.look_at ? AnimatedTransform(look_at_camera(*opt.look_at, desc.world_to_camera))
                     : desc.camera_to_world();
-    if (desc.camera.name == "realistic")
-        throw_input_error(desc.camera.loc,
-                          "camera \"realistic\" (lens systems) is not supported; perspective, "
-                          "orthographic and spherical are");
     plan.camera.emplace(desc.camera.params, camera_to_world, width, height,
-                        desc.camera.name.empty() ? "perspective" : desc.camera.name);
+                        desc.camera.name.empty() ? "perspective" : desc.camera.name, film_diagonal,
+                        desc.base_dir);
     desc.camera.params.check_unused();
 
     // Integrator: the command line's, else the scene's where we have it, else path.

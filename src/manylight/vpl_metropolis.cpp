@@ -102,8 +102,10 @@ public:
         c.p_film = Vec2(film.x * float(m_camera.width()), film.y * float(m_camera.height()));
         c.p_lens = cs.get_2d();
         c.time = cs.get_1d();
-        Ray ray = m_camera.generate_ray(c);
-        RGB L, beta(1.f);
+        float camera_weight;
+        Ray ray = m_camera.generate_ray(c, &camera_weight);
+        if (camera_weight == 0) return 0;  // stopped by the realistic camera's lens
+        RGB L, beta(camera_weight);
         GatherPoint g;
         bool found = false;
         for (int depth = 0; depth <= 8; ++depth) {

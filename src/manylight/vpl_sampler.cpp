@@ -64,8 +64,10 @@ PilotPoints camera_pilot_points(const Scene& scene, const PerspectiveCamera& cam
         cs.p_film = Vec2(u.x * float(camera.width()), u.y * float(camera.height()));
         cs.p_lens = sampler->get_2d();
         cs.time = sampler->get_1d();
-        Ray ray = camera.generate_ray(cs);
-        RGB L, beta(1.f);
+        float camera_weight;
+        Ray ray = camera.generate_ray(cs, &camera_weight);
+        if (camera_weight == 0) continue;  // stopped by the realistic camera's lens
+        RGB L, beta(camera_weight);
         GatherPoint g;
         for (int depth = 0;; ++depth) {
             if (!detail::next_gather_hit(scene, ray, *pilot.arena, beta, &L, &g)) break;

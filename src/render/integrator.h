@@ -92,9 +92,12 @@ public:
 
 // The camera ray of one pixel sample, made as every pixel-sampling integrator makes it: a filter
 // sample, the time and the lens position, drawn from the sampler in that order (after
-// start_pixel_sample). Counts the camera ray; *filter_weight receives the filter's weight.
+// start_pixel_sample). Counts the camera ray; *filter_weight receives the filter's weight (the
+// film's weight of the sample) and *camera_weight the ray's (PerspectiveCamera::generate_ray:
+// the radiance along the ray is multiplied by it; 0 when the realistic camera's lens stops the
+// ray). Callers that pass no camera_weight must not meet a camera with ray weights.
 Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
-                     float* filter_weight);
+                     float* filter_weight, float* camera_weight = nullptr);
 
 // Integrators that estimate radiance along camera rays, one pixel sample at a time, in the render
 // loop's rounds (render_loop.h: render_pixels): each pixel's samples are taken in index order by

@@ -15,7 +15,7 @@ struct ThreadState {
 }  // namespace
 
 Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
-                     float* filter_weight) {
+                     float* filter_weight, float* camera_weight) {
     FilterSample fs = ctx.filter.sample(sampler.get_pixel_2d());
     CameraSample cs;
     cs.p_film = Vec2(float(pixel.x) + 0.5f + fs.p.x, float(pixel.y) + 0.5f + fs.p.y);
@@ -23,7 +23,7 @@ Ray pixel_sample_ray(const RenderContext& ctx, Point2i pixel, Sampler& sampler,
     cs.p_lens = sampler.get_2d();
     stats::count_camera_ray();
     *filter_weight = fs.weight;
-    return ctx.camera.generate_ray(cs);
+    return ctx.camera.generate_ray(cs, camera_weight);
 }
 
 RenderResult PixelIntegrator::render(const RenderContext& ctx) {
@@ -38,9 +38,12 @@ RenderResult PixelIntegrator::render(const RenderContext& ctx) {
         Sampler& sampler = *ts.sampler;
         for (int64_t s = s0; s < s1; ++s) {
             sampler.start_pixel_sample(pixel, int(s));
-            float weight;
-            Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
-            RGB L = li(ray, ctx.scene, sampler, ts.scratch, pixel);
+            float weight, camera_weight;
+            Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight, &camera_weight);
+            // A vignetted ray (weight 0) is a sample of black, as pbrt-v4 counts it.
+            RGB L = camera_weight > 0
+                        ? li(ray, ctx.scene, sampler, ts.scratch, pixel) * camera_weight
+                        : RGB();
             ctx.film.add_sample(pixel, L, weight);
             ts.scratch.reset();
         }

@@ -7,6 +7,7 @@
 
 #include "core/parallel.h"
 #include "geometry/curves.h"
+#include "geometry/loop_subdiv.h"
 #include "geometry/ply.h"
 #include "geometry/shapes.h"
 #include "lights/create.h"
@@ -477,7 +478,7 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
         if (const Param* a = params.find("alpha"))
             throw_input_error(a->loc, "curve: \"alpha\" is not supported by manylight");
     } else if (type == "loopsubdiv") {
-        throw_input_error(loc, "the pbrt-v4 shape \"{}\" is not supported by manylight", type);
+        src.mesh = make_loop_subdiv(params, loc);
     } else {
         throw_input_error(loc, "unknown shape \"{}\"", type);
     }

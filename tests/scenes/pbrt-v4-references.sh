@@ -13,7 +13,8 @@ names=("$@")
   tex_directionmix mat_thindielectric mat_mix shape_cylinder media_fog media_grid
   light_goniometric light_projection light_area_image mat_coateddiffuse mat_coatedconductor
   mat_coatedconductor_depth2 mat_interface
-  shape_curve mat_hair)
+  shape_curve mat_hair camera_realistic
+  camera_realistic_star shape_loopsubdiv)
 for n in "${names[@]}"; do
   echo "== $n"
   "$pbrt" --quiet --spp 1024 --seed 1 --outfile "$n.exr" "$n.pbrt"

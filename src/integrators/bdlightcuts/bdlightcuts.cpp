@@ -630,11 +630,16 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
         sampler.start_pixel_sample(pixel, first_sample + s);
-        float weight;
-        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
+        float weight, camera_weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight, &camera_weight);
         size_t first = ts.points.size();
         bool rested = false;
-        RGB L = trace_eye(scene, ray, sampler, ts, weight, &rested);
+        // The camera ray's weight scales what the path meets and its VSPs' shares; a
+        // vignetted ray (weight 0) is a sample of black.
+        RGB L = camera_weight > 0
+                    ? trace_eye(scene, ray, sampler, ts, weight * camera_weight, &rested) *
+                          camera_weight
+                    : RGB();
         rests += rested;
         if (!L.is_finite()) {
             ts.points.resize(first);

@@ -162,7 +162,12 @@ void IgiIntegrator::gather_row(const RenderContext& ctx, const InterleavedLayout
         RowPixel rp;
         rp.index = index;
         rp.first = rs.points.size();
-        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &rp.weight);
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &rp.weight, &rp.camera_weight);
+        if (rp.camera_weight == 0) {  // vignetted: a sample of black
+            rp.last = rp.first;
+            rs.pixels.push_back(rp);
+            continue;
+        }
         bool first = s == 0;
         rp.direct = gather_along(
             scene, ray, sampler, rs.scratch, m_many.max_depth, [&](const GatherPoint& g, float) {
@@ -271,8 +276,8 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
                 }
                 if (rp.direct.is_finite() && indirect.is_finite()) {
                     Pixel& px = pixels[rp.index];
-                    px.direct += rp.direct * rp.weight;
-                    px.indirect += indirect * rp.weight;
+                    px.direct += rp.direct * (rp.weight * rp.camera_weight);
+                    px.indirect += indirect * (rp.weight * rp.camera_weight);
                     px.weight += rp.weight;
                 }
             }

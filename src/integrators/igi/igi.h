@@ -54,7 +54,8 @@ private:
     struct RowPixel {
         size_t index = 0, first = 0, last = 0;
         RGB direct;
-        float weight = 0;
+        float weight = 0;         // the filter's
+        float camera_weight = 1;  // the camera ray's: it scales direct and indirect
     };
     // Per thread: the sampler, the BSDFs of a row's gather points (reset after each sample), the
     // row's points and pixels, and the seconds of each phase (--stats).

@@ -162,8 +162,9 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
         State& st = states.local();
         Sampler& sampler = *st.sampler;
         sampler.start_pixel_sample(pixel, 0);
-        float weight;
-        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
+        float weight, camera_weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight, &camera_weight);
+        if (camera_weight == 0) return RGB();
         RGB L = gather_along(ctx.scene, ray, sampler, st.scratch, m_settings.max_depth,
                              [&](const GatherPoint& g, float u) {
                                  int cut_size = 0;
@@ -174,7 +175,7 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
                                  return direct + c;
                              });
         st.scratch.reset();
-        return L;
+        return L * camera_weight;
     };
     // The error floor, from a pilot of small cuts.
     m_floor_luminance = 0;
@@ -273,11 +274,13 @@ RenderResult LightcutsIntegrator::render_reconstructed(const RenderContext& ctx)
                       std::span<const SparseCut* const> corners, float* weight) {
         State& st = states.local();
         st.sampler->start_pixel_sample(pixel, s);
-        Ray ray = pixel_sample_ray(ctx, pixel, *st.sampler, weight);
+        float camera_weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, *st.sampler, weight, &camera_weight);
+        if (camera_weight == 0) return RGB();
         RGB L =
             li_sample(ray, ctx.scene, *st.sampler, st.scratch, pixel, record, corners, s % m_reps);
         st.scratch.reset();
-        return L;
+        return L * camera_weight;
     };
     RenderContext pass_ctx = ctx;
     pass_ctx.progress = nullptr;  // progress counts whole passes, below

@@ -198,13 +198,18 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(
     const int n = samples > 0 ? samples : m_pass_samples;
     for (int s = 0; s < n; ++s) {
         sampler.start_pixel_sample(pixel, first_sample + s);
-        float weight;
-        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
+        float weight, camera_weight;
+        Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight, &camera_weight);
+        if (camera_weight == 0) {  // vignetted: a sample of black
+            weight_sum += weight;
+            continue;
+        }
         size_t first = ts.points.size();
         RGB L = gather_along(scene, ray, sampler, ts.scratch, m_settings.max_depth,
                              [&](const GatherPoint& g, float u) {
-                                 // `a` holds the raw filter weight until normalised below.
-                                 ts.points.push_back({g, weight, RGB()});
+                                 // `a` holds the raw filter weight (times the camera ray's)
+                                 // until normalised below.
+                                 ts.points.push_back({g, weight * camera_weight, RGB()});
                                  ts.uniforms.push_back(u);
                                  return m_direct.estimate(scene, g, sampler);
                              });
@@ -214,7 +219,7 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(
             ts.uniforms.resize(first);
             continue;
         }
-        known += L * weight;
+        known += L * (weight * camera_weight);
         weight_sum += weight;
     }
     PassEstimate out;

@@ -97,9 +97,11 @@ RenderResult PathIntegrator::render_guided(const RenderContext& ctx) {
             PassPixel& px = pass.pixels[size_t(pixel.y) * w + pixel.x];
             for (int64_t s = s0; s < s1; ++s) {
                 sampler.start_pixel_sample(pixel, int(pass.first_sample + s));
-                float weight;
-                Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight);
-                RGB L = trace(ray, ctx.scene, sampler, ts.scratch, options);
+                float weight, camera_weight;
+                Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight, &camera_weight);
+                RGB L = camera_weight > 0
+                            ? trace(ray, ctx.scene, sampler, ts.scratch, options) * camera_weight
+                            : RGB();
                 ts.scratch.reset();
                 if (!L.is_finite()) {
                     ctx.film.add_sample(pixel, L, weight);  // dropped there, and counted
