@@ -20,8 +20,9 @@ namespace {
 
 const std::string kScenes = MANYLIGHT_SOURCE_DIR "/tests/scenes/";
 
-void expect_matches_pbrt(const std::string& name) {
-    SCOPED_TRACE(name);
+// `integrator`: ours instead of the scene's (the same image by another estimator).
+void expect_matches_pbrt(const std::string& name, const std::string& integrator = "") {
+    SCOPED_TRACE(name + (integrator.empty() ? "" : " by " + integrator));
     const std::string ref_path = kScenes + name + ".exr";
     // A scene whose reference has not been rendered yet is skipped, by name (the references
     // need a pbrt-v4 build, which CI does not have).
@@ -32,6 +33,7 @@ void expect_matches_pbrt(const std::string& name) {
     RenderOptions opt;
     opt.progress = false;
     opt.seed = 7;
+    opt.integrator = integrator;
     Image img = render_scene(parse_scene_file(kScenes + name + ".pbrt"), opt).image;
     ASSERT_EQ(img.width, ref.width);
     ASSERT_EQ(img.height, ref.height);
@@ -71,6 +73,11 @@ TEST(PbrtReference, MixMaterial) { expect_matches_pbrt("mat_mix"); }
 TEST(PbrtReference, CylinderShape) { expect_matches_pbrt("shape_cylinder"); }
 TEST(PbrtReference, HomogeneousFogUnderASpotLight) { expect_matches_pbrt("media_fog"); }
 TEST(PbrtReference, GridMediumBehindInterfaces) { expect_matches_pbrt("media_grid"); }
+// Light paths through the same media: lighttracer's medium vertices and transmittance to the lens.
+TEST(PbrtReference, HomogeneousFogByLightTracing) {
+    expect_matches_pbrt("media_fog", "lighttracer");
+}
+TEST(PbrtReference, GridMediumByLightTracing) { expect_matches_pbrt("media_grid", "lighttracer"); }
 TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
 TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
 TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }

@@ -163,7 +163,9 @@ float PerspectiveCamera::importance(const Ray& ray, Vec2* p_raster) const {
         p_plane = p_focus / m_focal_distance;
     }
     Vec2 r = raster_of(p_plane);
-    if (!(r.x >= 0 && r.x < m_width && r.y >= 0 && r.y < m_height)) return 0;
+    if (!(r.x >= -m_raster_margin.x && r.x < m_width + m_raster_margin.x &&
+          r.y >= -m_raster_margin.y && r.y < m_height + m_raster_margin.y))
+        return 0;
     if (p_raster) *p_raster = r;
     float cos2 = cos_theta * cos_theta;
     return 1 / (m_image_area * lens_area() * cos2 * cos2);

@@ -90,6 +90,11 @@ public:
     bool moves() const { return m_moves; }
     float lens_radius() const { return m_lens_radius; }
     float focal_distance() const { return m_focal_distance; }
+    // How far past the film's edge (pixels, per axis) importance() still sees: a camera sample
+    // lands up to the filter's radius less half a pixel outside the film (its pixel's centre
+    // plus the filter offset), so light paths joined to the lens must reach as far for the
+    // border pixels to get what camera samples give them. 0 by default.
+    void set_raster_margin(const Vec2& margin) { m_raster_margin = margin; }
 
 private:
     // Raster position of a camera-space point on the plane z = 1.
@@ -118,6 +123,7 @@ private:
     float m_screen[4];  // x min, x max, y min, y max
     float m_tan_half_fov;
     float m_lens_radius, m_focal_distance;
+    Vec2 m_raster_margin;
     float m_shutter_open, m_shutter_close;
     FileLoc m_loc;  // the Camera directive's
 };

@@ -24,6 +24,8 @@ public:
           m_max(max_component_value),
           m_inv_integral(1.f / filter.integral()) {}
 
+    Vec2 radius() const { return m_filter.radius(); }
+
     // Calls add(pixel index y * width + x, contribution) for each pixel the splat of v at raster
     // position p reaches; nothing for a non-finite v.
     template <typename Add>

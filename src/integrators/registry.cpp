@@ -34,9 +34,9 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          make<WhittedIntegrator>},
         {"lighttracer",
          "light tracing: paths from the lights, each vertex splatted through the lens",
-         make<LightTracerIntegrator>, true},
+         make<LightTracerIntegrator>, true, true},
         {"bdpt", "bidirectional path tracing: every (s, t) strategy, power-heuristic MIS",
-         make<BdptIntegrator>, true},
+         make<BdptIntegrator>, true, true},
         {"mlt",
          "Metropolis light transport in path space (Veach): bidirectional mutations, lens and "
          "caustic perturbations",

@@ -19,6 +19,11 @@ struct IntegratorInfo {
     // Light paths reach the camera (light tracing, BDPT, Metropolis): the camera must have an
     // importance function (PerspectiveCamera::has_importance).
     bool needs_camera_importance = false;
+    // Every strategy that reaches the lens is a splat (light tracing, BDPT): the camera sees
+    // points past the film's edge as far as a camera sample's filter offset reaches, so that
+    // their splats give the border pixels what camera samples give them
+    // (PerspectiveCamera::set_raster_margin). Metropolis keeps its paths on the film.
+    bool splats_past_film_edge = false;
 };
 
 const std::vector<IntegratorInfo>& integrator_registry();

@@ -169,6 +169,10 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                           "camera's importance; the {} camera has none (as in pbrt-v4): render "
                           "it with path or a many-light integrator",
                           name, desc.camera.name);
+    if (info->splats_past_film_edge) {
+        const Vec2 r = filter->radius();
+        plan.camera->set_raster_margin(Vec2(std::max(0.f, r.x - 0.5f), std::max(0.f, r.y - 0.5f)));
+    }
     std::map<std::string, std::string> overrides = opt.set;
     // The scene's parameters apply only to the integrator they were written for, except
     // "maxdepth": it is the scene's light transport (the longest path), and means the same in
@@ -186,13 +190,20 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     auto integrator = info->create(settings);
     settings.check_unused();
     validate(opt.bias_check);
-    // Participating media: so far only `path` carries light through them.
+    // Participating media: so far `path` and `lighttracer` carry light through them.
     if (has_media(desc)) {
-        if (name != "path")
+        if (name != "path" && name != "lighttracer")
             throw UsageError(fmt::format(
                 "integrator \"{}\" does not render participating media yet (the scene has "
-                "MakeNamedMedium/MediumInterface); render it with --integrator path",
+                "MakeNamedMedium/MediumInterface); render it with --integrator path or "
+                "lighttracer",
                 name));
+        if (name == "lighttracer")
+            for (const auto& m : desc.media)
+                if (m->emits())
+                    throw UsageError(
+                        "integrator \"lighttracer\" does not carry light emitted by a medium "
+                        "(no light path starts in one); render it with --integrator path");
         if (bias_check_enabled(opt.bias_check, name))
             throw UsageError("--bias-check does not handle participating media yet");
     }

@@ -61,6 +61,8 @@ struct LightLeSample {
     float pdf_dir = 0;  // solid-angle density of the direction (1 for delta directions)
 };
 
+class Medium;
+
 class Light {
 public:
     virtual ~Light() = default;
@@ -109,6 +111,17 @@ public:
     virtual void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const {}
 
     int index = -1;  // position in the scene's light list, set by the scene
+
+    // The participating media the light emits into (pbrt-v4: the MediumInterface current at
+    // the LightSource, or the emitting shape's): `medium_outside` on the side its normal faces,
+    // `medium_inside` behind it; the same for lights without a surface. Null: no medium.
+    const Medium* medium_outside = nullptr;
+    const Medium* medium_inside = nullptr;
+    // The medium a ray leaving the light in direction w (from a point with normal n; zero for
+    // points and directions) starts in.
+    const Medium* medium_towards(const Vec3& w, const Vec3& n) const {
+        return n == Vec3() || dot(w, n) > 0 ? medium_outside : medium_inside;
+    }
 };
 
 }  // namespace ml

@@ -31,12 +31,15 @@ struct Splat {
 // Where one work item's splats go.
 class SplatList {
 public:
-    SplatList(std::vector<Splat>& out, int width, int height)
-        : m_out(out), m_width(width), m_height(height) {}
-    // A contribution at raster position p (pixels); dropped off the film or when not finite.
+    SplatList(std::vector<Splat>& out, int width, int height, const Vec2& reach = Vec2())
+        : m_out(out), m_width(width), m_height(height), m_reach(reach) {}
+    // A contribution at raster position p (pixels); dropped when not finite or when it lies
+    // past the film's edge by more than the filter's radius (`reach`): nearer, it still
+    // reaches border pixels.
     void add(const Vec2& p, const RGB& v, int image = -1) {
         if (!v.is_finite()) return stats::count_nonfinite_splat();  // in film.nonfinite_samples
-        if (!(p.x >= 0 && p.y >= 0 && p.x < float(m_width) && p.y < float(m_height)) ||
+        if (!(p.x >= -m_reach.x && p.y >= -m_reach.y && p.x < float(m_width) + m_reach.x &&
+              p.y < float(m_height) + m_reach.y) ||
             v.is_black())
             return;
         m_out.push_back(Splat{p, image, v});
@@ -52,6 +55,7 @@ public:
 private:
     std::vector<Splat>& m_out;
     int m_width, m_height;
+    Vec2 m_reach;
 };
 
 // Per-pixel sums of splats in double precision: the rendered image's, then `extra` images'.
@@ -65,11 +69,15 @@ public:
           m_sums(size_t(1 + extra), std::vector<double>(size_t(width) * size_t(height) * 3, 0.0)) {}
     int width() const { return m_width; }
     int height() const { return m_height; }
+    // How far past the film's edge a spread splat still reaches a pixel: the filter's radius.
+    Vec2 reach() const { return m_spread.radius(); }
     // Adds a list's splats in list order.
     void add(const std::vector<Splat>& list) {
         for (const Splat& s : list) {
-            ML_ASSERT(s.image >= -1 && size_t(s.image + 1) < m_sums.size() && s.p.x >= 0 &&
-                          s.p.y >= 0 && s.p.x < float(m_width) && s.p.y < float(m_height),
+            const Vec2 r = s.spread ? m_spread.radius() : Vec2();
+            ML_ASSERT(s.image >= -1 && size_t(s.image + 1) < m_sums.size() && s.p.x >= -r.x &&
+                          s.p.y >= -r.y && s.p.x < float(m_width) + r.x &&
+                          s.p.y < float(m_height) + r.y,
                       "a splat outside the sums");
             std::vector<double>& sum = m_sums[size_t(s.image + 1)];
             auto add_to = [&](size_t pixel, const RGB& v) {
@@ -125,7 +133,7 @@ void run_and_merge(int64_t begin, int64_t end, std::vector<std::vector<Splat>>& 
     parallel_for(begin, end, [&](int64_t i) {
         std::vector<Splat>& list = lists[size_t(i - begin)];
         list.clear();
-        SplatList splats(list, sums.width(), sums.height());
+        SplatList splats(list, sums.width(), sums.height(), sums.reach());
         fn(i, splats);
     });
     for (int64_t i = begin; i < end; ++i) sums.add(lists[size_t(i - begin)]);

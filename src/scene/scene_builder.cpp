@@ -509,6 +509,8 @@ void SceneBuilder::light_source(const std::string& type, const ParameterList& pa
                           type);
     auto light = create_light(type, params, m_state.ctm[0], m_desc.base_dir, loc);
     params.check_unused();
+    // Its medium is resolved at the end (pbrt-v4 allows media defined after their use).
+    m_light_media.push_back({m_desc.lights.size(), m_state.outside_medium, m_state.medium_loc});
     m_desc.lights.push_back(std::move(light));
 }
 
@@ -573,6 +575,10 @@ SceneDesc SceneBuilder::finish() {
 
     // Media by name, now that every MakeNamedMedium is known (pbrt-v4 allows them after use).
     m_desc.camera_medium = find_medium(m_camera_medium, m_camera_medium_loc);
+    for (const LightMedium& lm : m_light_media) {
+        Light& light = *m_desc.lights[lm.light];
+        light.medium_outside = light.medium_inside = find_medium(lm.name, lm.loc);
+    }
     std::vector<std::pair<const Medium*, const Medium*>> shape_media(m_shapes.size());
     for (size_t i = 0; i < m_shapes.size(); ++i)
         shape_media[i] = {find_medium(m_shapes[i].inside_medium, m_shapes[i].loc),
@@ -637,6 +643,8 @@ SceneDesc SceneBuilder::finish() {
                                        r.area_light->loc, m_desc.base_dir);
         params.check_unused();
         m_desc.meshes[i]->area_light = light.get();
+        light->medium_inside = shape_media[i].first;
+        light->medium_outside = shape_media[i].second;
         m_desc.lights.push_back(std::move(light));
     }
     return std::move(m_desc);

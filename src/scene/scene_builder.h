@@ -107,6 +107,13 @@ private:
     std::map<std::string, const Medium*> m_named_media;
     std::string m_camera_medium;  // the outside medium's name at the Camera directive
     FileLoc m_camera_medium_loc;
+    // Each LightSource's outside medium by name (Light::medium_outside), resolved at the end.
+    struct LightMedium {
+        size_t light;
+        std::string name;
+        FileLoc loc;
+    };
+    std::vector<LightMedium> m_light_media;
     const Medium* find_medium(const std::string& name, const FileLoc& loc) const;
     const Material* m_default_material = nullptr;
     ImageCache m_images;

@@ -11,58 +11,11 @@ namespace ml {
 
 namespace {
 
-// A ray with a unit direction, and the length its parameter had per unit: media work in
-// world distances.
-struct UnitRay {
-    Ray ray;
-    float tmax;
-};
-UnitRay unit_ray(const Ray& r, float tmax) {
-    const float len = length(r.d);
-    return {Ray{r.o, r.d / len, kInfinity, r.time}, tmax * len};
-}
-
 float channel_mean(const RGB& c) { return (c.r + c.g + c.b) / 3; }
 
 RGB exp_neg(const RGB& x) {
     auto e = [](float v) { return v > 0 ? std::exp(-v) : 1.f; };
     return RGB(e(x.r), e(x.g), e(x.b));
-}
-
-enum class Event { Pass, Scatter, Absorb };
-struct Tracked {
-    Event event = Event::Pass;
-    float t = 0;  // distance of the event along the unit ray
-};
-
-// Delta tracking with spectral tracking's probabilities from `ray` (unit) to tmax through `m`:
-// updates the throughput `beta` and adds the medium's emission, times beta, to L where
-// `emission` is set (the path may still gain a vertex).
-Tracked track(const Medium& m, const Ray& ray, float tmax, Sampler& sampler, RGB* beta, RGB* L,
-              bool emission) {
-    const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
-    if (!seg || !(seg->sigma_maj > 0)) return {};
-    const float sigma_maj = seg->sigma_maj;
-    float t = seg->t0;
-    for (;;) {
-        t -= std::log1p(-sampler.get_1d()) / sigma_maj;
-        if (!(t < seg->t1)) return {};
-        const MediumProperties mp = m.at(ray.at(t));
-        if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
-        const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
-        const float pa = channel_mean(*beta * mp.sigma_a), ps = channel_mean(*beta * mp.sigma_s),
-                    pn = channel_mean(*beta * sigma_n);
-        const float c = pa + ps + pn;
-        if (!(c > 0)) return {Event::Absorb, t};
-        const float u = sampler.get_1d() * c;
-        if (u < pa) return {Event::Absorb, t};
-        if (u < pa + ps) {
-            *beta *= mp.sigma_s * (c / (ps * sigma_maj));
-            return {Event::Scatter, t};
-        }
-        *beta *= sigma_n * (c / (pn * sigma_maj));
-        if (beta->is_black()) return {Event::Absorb, t};
-    }
 }
 
 // The transmittance of `m` along the unit `ray` up to tmax: closed form where it is
@@ -215,6 +168,38 @@ RGB equiangular_single_scattering(const Scene& scene, const Medium& medium, cons
 
 }  // namespace
 
+UnitRay unit_ray(const Ray& r, float tmax) {
+    const float len = length(r.d);
+    return {Ray{r.o, r.d / len, kInfinity, r.time}, tmax * len};
+}
+
+MediumCollision track_medium(const Medium& m, const Ray& ray, float tmax, Sampler& sampler,
+                             RGB* beta, RGB* L, bool emission) {
+    const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
+    if (!seg || !(seg->sigma_maj > 0)) return {};
+    const float sigma_maj = seg->sigma_maj;
+    float t = seg->t0;
+    for (;;) {
+        t -= std::log1p(-sampler.get_1d()) / sigma_maj;
+        if (!(t < seg->t1)) return {};
+        const MediumProperties mp = m.at(ray.at(t));
+        if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
+        const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
+        const float pa = channel_mean(*beta * mp.sigma_a), ps = channel_mean(*beta * mp.sigma_s),
+                    pn = channel_mean(*beta * sigma_n);
+        const float c = pa + ps + pn;
+        if (!(c > 0)) return {MediumEvent::Absorb, t};
+        const float u = sampler.get_1d() * c;
+        if (u < pa) return {MediumEvent::Absorb, t};
+        if (u < pa + ps) {
+            *beta *= mp.sigma_s * (c / (ps * sigma_maj));
+            return {MediumEvent::Scatter, t};
+        }
+        *beta *= sigma_n * (c / (pn * sigma_maj));
+        if (beta->is_black()) return {MediumEvent::Absorb, t};
+    }
+}
+
 const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current) {
     if (!si.mesh || !si.mesh->medium_interface) return current;
     return dot(w, si.ng) > 0 ? si.mesh->medium_outside : si.mesh->medium_inside;
@@ -283,10 +268,10 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
             if (grey.valid && depth < options.max_depth)
                 L += beta * equiangular_single_scattering(scene, *medium, u.ray, u.tmax, grey,
                                                           light_sampler, sampler);
-            const Tracked ev =
-                track(*medium, u.ray, u.tmax, sampler, &beta, &L, depth < options.max_depth);
-            if (ev.event == Event::Absorb) break;
-            if (ev.event == Event::Scatter) {
+            const MediumCollision ev =
+                track_medium(*medium, u.ray, u.tmax, sampler, &beta, &L, depth < options.max_depth);
+            if (ev.event == MediumEvent::Absorb) break;
+            if (ev.event == MediumEvent::Scatter) {
                 if (depth++ >= options.max_depth) break;
                 const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
                 const float g = medium->g();

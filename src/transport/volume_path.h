@@ -31,6 +31,28 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
                      ScratchBuffer& scratch, const LightSampler& light_sampler,
                      const PathTraceOptions& options);
 
+// A ray with a unit direction, and the length its parameter had per unit: media work in
+// world distances.
+struct UnitRay {
+    Ray ray;
+    float tmax;
+};
+UnitRay unit_ray(const Ray& r, float tmax);
+
+// What a ray meets in a medium before its end: nothing, a scattering or an absorption at
+// distance t along the unit ray.
+enum class MediumEvent { Pass, Scatter, Absorb };
+struct MediumCollision {
+    MediumEvent event = MediumEvent::Pass;
+    float t = 0;
+};
+
+// Delta tracking with spectral tracking's probabilities from `ray` (unit) to tmax through `m`:
+// updates the throughput `beta` and adds the medium's emission, times beta, to L where
+// `emission` is set (the path may still gain a vertex).
+MediumCollision track_medium(const Medium& m, const Ray& ray, float tmax, Sampler& sampler,
+                             RGB* beta, RGB* L, bool emission);
+
 // The medium a ray leaving surface point `si` along w is in, `current` being the one the path
 // arrived in: the inside or outside of a medium boundary, else unchanged.
 const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current);

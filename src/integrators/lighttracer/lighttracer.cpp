@@ -19,10 +19,12 @@ LightTracerIntegrator::~LightTracerIntegrator() = default;
 void LightTracerIntegrator::prepare(const RenderContext& ctx) {
     m_light_sampler = std::make_unique<LightSampler>(m_light_sampler_name, ctx.scene.lights());
     m_ctx = std::make_unique<BdptScene>(ctx.scene, ctx.camera, *m_light_sampler);
+    m_media = ctx.scene.has_media();
 }
 
 void LightTracerIntegrator::render_sample(const RenderContext& ctx, Point2i, int, Sampler& sampler,
                                           ScratchBuffer& scratch, SplatList& splats) const {
+    if (m_media) return render_sample_media(ctx, sampler, scratch, splats);
     // A light path of up to maxdepth + 1 vertices (maxdepth bounces before the lens).
     thread_local std::vector<PathVertex> path;
     path.resize(size_t(m_max_depth) + 1);

@@ -6,6 +6,10 @@
 // What it cannot see: light reaching the lens only through delta lobes (a mirror or glass seen
 // by the camera), point lights seen directly (a pinhole cannot be hit), and infinite lights seen
 // directly. Settings: maxdepth (5; bounces, as path's), lightsampler ("power" or "uniform").
+//
+// In a scene with participating media, the light path scatters in them too (delta tracking, as
+// `path`), and each vertex reaches the lens through the media's transmittance
+// (lighttracer_media.cpp). Media that emit are refused: no light path starts in them.
 #pragma once
 
 #include <memory>
@@ -28,7 +32,12 @@ protected:
                        ScratchBuffer& scratch, SplatList& splats) const override;
 
 private:
+    // One light path through participating media, each vertex joined to the lens.
+    void render_sample_media(const RenderContext& ctx, Sampler& sampler, ScratchBuffer& scratch,
+                             SplatList& splats) const;
+
     int m_max_depth;
+    bool m_media = false;  // the scene has participating media
     std::string m_light_sampler_name;
     std::unique_ptr<LightSampler> m_light_sampler;
     std::unique_ptr<BdptScene> m_ctx;
