@@ -38,7 +38,7 @@ BdptPathSample BdptEstimator::sample_depth(
     // The camera subpath, exactly t vertices.
     Vec2 u_film = sampler.get_pixel_2d();
     CameraSample cs;
-    cs.p_film = Vec2(u_film.x * float(m_camera.width()), u_film.y * float(m_camera.height()));
+    cs.p_film = m_camera.raster_point(u_film);
     cs.time = sampler.get_1d();
     cs.p_lens = sampler.get_2d();
     out.p_raster = cs.p_film;
@@ -57,8 +57,10 @@ BdptPathSample BdptEstimator::sample_depth(
     // The connection.
     stream(BdptStream::Connection);
     Connection c = connect_bdpt(ctx, light_vertices.data(), camera_vertices.data(), s, t, sampler);
+    // A splat's value is already per camera sample; a camera ray's counts the area it was drawn
+    // over (the film and its margin) against the film's.
     if (c.splat) out.p_raster = c.p_raster;
-    out.L = c.L * float(n_strategies);
+    out.L = c.L * (float(n_strategies) * (c.splat ? 1.f : m_camera.raster_area_ratio()));
     return out;
 }
 

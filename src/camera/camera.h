@@ -95,6 +95,17 @@ public:
     // plus the filter offset), so light paths joined to the lens must reach as far for the
     // border pixels to get what camera samples give them. 0 by default.
     void set_raster_margin(const Vec2& margin) { m_raster_margin = margin; }
+    // The raster position of u in [0, 1)^2 spread over the film and its margin, for samplers
+    // that draw raster positions uniformly (Metropolis), and that area over the film's: the
+    // weight of a camera ray drawn so, by which its radiance counts as a camera sample's.
+    Vec2 raster_point(const Vec2& u) const {
+        return Vec2(-m_raster_margin.x + u.x * (float(m_width) + 2 * m_raster_margin.x),
+                    -m_raster_margin.y + u.y * (float(m_height) + 2 * m_raster_margin.y));
+    }
+    float raster_area_ratio() const {
+        return (float(m_width) + 2 * m_raster_margin.x) *
+               (float(m_height) + 2 * m_raster_margin.y) / (float(m_width) * float(m_height));
+    }
 
 private:
     // Raster position of a camera-space point on the plane z = 1.

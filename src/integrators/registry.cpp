@@ -45,7 +45,7 @@ const std::vector<IntegratorInfo>& integrator_registry() {
          [](const Settings& s) { return std::make_unique<MltIntegrator>(s, true); }, true},
         {"pssmlt",
          "primary-sample-space MLT (Kelemen): Metropolis chains over BDPT's paths of one depth",
-         make<PssmltIntegrator>, true},
+         make<PssmltIntegrator>, true, true},
         {"vpl", "instant radiosity: every point light and VPL summed with a shadow ray",
          make<VplIntegrator>},
         {"lightcuts", "Lightcuts: the vpl integrator's lights clustered, error-bounded cuts",

@@ -22,7 +22,8 @@ struct IntegratorInfo {
     // Every strategy that reaches the lens is a splat (light tracing, BDPT): the camera sees
     // points past the film's edge as far as a camera sample's filter offset reaches, so that
     // their splats give the border pixels what camera samples give them
-    // (PerspectiveCamera::set_raster_margin). Metropolis keeps its paths on the film.
+    // (PerspectiveCamera::set_raster_margin). PSSMLT draws its camera rays over the film and
+    // that margin; Veach's MLT keeps its paths on the film.
     bool splats_past_film_edge = false;
 };
 

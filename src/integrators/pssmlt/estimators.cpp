@@ -1,5 +1,8 @@
 // The two estimators a pssmlt chain can explore: BDPT's paths of one depth (the default) and the
 // path tracer.
+#include <algorithm>
+#include <cmath>
+
 #include "bidir/bdpt_estimator.h"
 #include "core/stats.h"
 #include "integrators/path/path.h"
@@ -43,13 +46,15 @@ public:
         sampler.start_stream(0);
         Vec2 u = sampler.get_pixel_2d();
         CameraSample cs;
-        cs.p_film = Vec2(u.x * float(m_camera.width()), u.y * float(m_camera.height()));
+        cs.p_film = m_camera.raster_point(u);
         cs.time = sampler.get_1d();
         cs.p_lens = sampler.get_2d();
         Ray ray = m_camera.generate_ray(cs);
         stats::count_camera_ray();
-        Point2i pixel{int(cs.p_film.x), int(cs.p_film.y)};
-        return {m_path.li(ray, m_scene, sampler, scratch, pixel), cs.p_film};
+        Point2i pixel{std::clamp(int(std::floor(cs.p_film.x)), 0, m_camera.width() - 1),
+                      std::clamp(int(std::floor(cs.p_film.y)), 0, m_camera.height() - 1)};
+        return {m_path.li(ray, m_scene, sampler, scratch, pixel) * m_camera.raster_area_ratio(),
+                cs.p_film};
     }
 
 private:
