@@ -2,12 +2,13 @@
 // `path` through media against closed forms (Beer's law through an absorbing medium seen
 // directly and through a slab bounded by interface surfaces, for the camera's rays and for
 // the shadow rays; a scattering-only medium in a white furnace is 1 whatever its colour, phase
-// function and density), light tracing against path through a coloured cloud, and the refusals
-// of what is not supported yet.
+// function and density; by `path` and `bdpt`), light tracing and BDPT against path through a
+// coloured cloud, and the refusals of what is not supported yet.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "chi2.h"
 #include "media/medium.h"
@@ -143,10 +144,15 @@ TEST(Media, AScatteringMediumInAWhiteFurnaceIsOne) {
             "Shape \"sphere\" \"float radius\" [ 3 ]\nAttributeEnd\n";
         const Image img = render_text(scene, options(64)).image;
         for (int c = 0; c < 3; ++c) expect_channel(img, c, 1.0, 0.03);
+        // BDPT: medium vertices on both subpaths, joined through the medium's transmittance.
+        RenderOptions bd = options(64);
+        bd.integrator = "bdpt";
+        const Image bidir = render_text(scene, bd).image;
+        for (int c = 0; c < 3; ++c) expect_channel(bidir, c, 1.0, 0.03);
     }
 }
 
-TEST(Media, LightTracingAgreesWithPathThroughAColouredCloud) {
+TEST(Media, LightTracingAndBdptAgreeWithPathThroughAColouredCloud) {
     // A box of coloured, forward-scattering medium bounded by interfaces, over a grey floor under
     // an area light, seen from outside (a camera inside a scattering medium gives light tracing
     // unbounded variance: vertices next to the lens). Light paths scatter in the cloud (spectral
@@ -170,15 +176,18 @@ TEST(Media, LightTracingAgreesWithPathThroughAColouredCloud) {
             "AttributeBegin\nMediumInterface \"m\" \"\"\nMaterial \"interface\"\n" +
             box(Vec3(-1, 0.01f, -1), Vec3(1, 2, 1)) + "AttributeEnd\n";
         const Image path = render_text(scene, options(2048)).image;
-        RenderOptions lt = options(2048);
-        lt.integrator = "lighttracer";
-        const Image traced = render_text(scene, lt).image;
-        for (int c = 0; c < 3; ++c) {
-            const MeanDifference d = mean_difference(traced, path, c);
-            EXPECT_NEAR(d.mean, 0, 4 * d.stderr_of_mean + 1e-6)
-                << "channel " << c << ": lighttracer - path " << d.mean << " (standard error "
-                << d.stderr_of_mean << ")";
-            EXPECT_LT(std::abs(d.mean), 0.03 * d.reference_mean) << "channel " << c;
+        for (auto [integrator, spp] : {std::pair{"lighttracer", 2048}, std::pair{"bdpt", 512}}) {
+            SCOPED_TRACE(integrator);
+            RenderOptions opt = options(spp);
+            opt.integrator = integrator;
+            const Image other = render_text(scene, opt).image;
+            for (int c = 0; c < 3; ++c) {
+                const MeanDifference d = mean_difference(other, path, c);
+                EXPECT_NEAR(d.mean, 0, 4 * d.stderr_of_mean + 1e-6)
+                    << "channel " << c << ": " << integrator << " - path " << d.mean
+                    << " (standard error " << d.stderr_of_mean << ")";
+                EXPECT_LT(std::abs(d.mean), 0.03 * d.reference_mean) << "channel " << c;
+            }
         }
     }
 }
@@ -207,7 +216,7 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
         "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\n"
         "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
         "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 0 1 ]\n";
-    for (const char* integrator : {"bdpt", "lightcuts", "bdlightcuts", "manylight", "vpl"}) {
+    for (const char* integrator : {"lightcuts", "bdlightcuts", "manylight", "vpl", "pssmlt"}) {
         RenderOptions opt = options(1);
         opt.integrator = integrator;
         try {
@@ -220,21 +229,22 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
         }
     }
     // Light paths start at the lights, never in an emitting medium.
-    try {
-        RenderOptions opt = options(1);
-        opt.integrator = "lighttracer";
-        render_text(
-            "MakeNamedMedium \"glow\" \"string type\" \"homogeneous\" \"rgb Le\" [ 1 1 1 ]\n"
-            "MediumInterface \"\" \"glow\"\nLookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\n"
-            "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
-            "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 0 1 ]\n",
-            opt);
-        ADD_FAILURE() << "lighttracer rendered an emitting medium";
-    } catch (const UsageError& e) {
-        EXPECT_NE(std::string(e.what()).find("does not carry light emitted by a medium"),
-                  std::string::npos)
-            << e.what();
-    }
+    for (const char* integrator : {"lighttracer", "bdpt"}) try {
+            RenderOptions opt = options(1);
+            opt.integrator = integrator;
+            render_text(
+                "MakeNamedMedium \"glow\" \"string type\" \"homogeneous\" \"rgb Le\" [ 1 1 1 ]\n"
+                "MediumInterface \"\" \"glow\"\nLookAt 0 0 0  0 0 1  0 1 0\nCamera "
+                "\"perspective\"\n"
+                "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
+                "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 0 1 ]\n",
+                opt);
+            ADD_FAILURE() << integrator << " rendered an emitting medium";
+        } catch (const UsageError& e) {
+            EXPECT_NE(std::string(e.what()).find("does not carry light emitted by a medium"),
+                      std::string::npos)
+                << e.what();
+        }
     expect_scene_error("WorldBegin\nMediumInterface \"smoke\" \"\"\nShape \"sphere\"\n", 3, 1,
                        "medium \"smoke\" is not defined");
     expect_scene_error(

@@ -78,6 +78,8 @@ TEST(PbrtReference, HomogeneousFogByLightTracing) {
     expect_matches_pbrt("media_fog", "lighttracer");
 }
 TEST(PbrtReference, GridMediumByLightTracing) { expect_matches_pbrt("media_grid", "lighttracer"); }
+TEST(PbrtReference, HomogeneousFogByBdpt) { expect_matches_pbrt("media_fog", "bdpt"); }
+TEST(PbrtReference, GridMediumByBdpt) { expect_matches_pbrt("media_grid", "bdpt"); }
 TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
 TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
 TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }

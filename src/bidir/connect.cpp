@@ -45,17 +45,18 @@ private:
     Saved m_saved{};
 };
 
-// The geometry term between two vertices (shading cosines), times their visibility.
-float geometry(const Scene& scene, const PathVertex& a, const PathVertex& b) {
+// The geometry term between two vertices (shading cosines; none at medium vertices), times
+// what passes between them (visibility, or the media's transmittance).
+RGB geometry(const BdptScene& ctx, const PathVertex& a, const PathVertex& b, Sampler& sampler) {
     Vec3 d = a.p() - b.p();
     float d2 = length_squared(d);
-    if (d2 == 0) return 0;
+    if (d2 == 0) return RGB();
     float g = 1 / d2;
     d = d * std::sqrt(g);
     if (a.on_surface()) g *= abs_dot(a.ns(), d);
     if (b.on_surface()) g *= abs_dot(b.ns(), d);
-    if (g == 0 || !mutually_visible(scene, a, b)) return 0;
-    return g;
+    if (g == 0) return RGB();
+    return transmittance_between(ctx, a, b, sampler) * g;
 }
 
 }  // namespace
@@ -130,8 +131,9 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
         const PathVertex& qs = light_vertices[s - 1];
         if (qs.is_connectible()) {
             Vec2 u = sampler.get_2d();
-            auto cs = qs.kind == VertexKind::Surface ? ctx.camera.sample_wi(qs.p(), u, qs.si.time)
-                                                     : std::nullopt;
+            auto cs = qs.kind == VertexKind::Surface || qs.kind == VertexKind::Medium
+                          ? ctx.camera.sample_wi(qs.p(), u, qs.si.time)
+                          : std::nullopt;
             if (cs) {
                 c.splat = true;
                 c.p_raster = cs->p_raster;
@@ -139,8 +141,8 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                     PathVertex::camera(cs->p_lens, cs->n_lens, RGB(cs->We / cs->pdf_solid_angle));
                 sampled->si.time = qs.si.time;
                 L = qs.beta * qs.f(*sampled, TransportMode::Importance) * sampled->beta *
-                    abs_dot(cs->wi, qs.ns());
-                if (!L.is_black() && !mutually_visible(ctx.scene, qs, *sampled)) L = RGB();
+                    qs.cos_towards(cs->wi);
+                if (!L.is_black()) L *= transmittance_between(ctx, qs, *sampled, sampler);
             }
         }
     } else if (s == 1) {
@@ -160,8 +162,8 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
                     sampled->si.uv = ls->uv;
                     sampled->pdf_fwd = sampled->pdf_light_origin(ctx, pt);
                     L = pt.beta * pt.f(*sampled, TransportMode::Radiance) * sampled->beta *
-                        abs_dot(ls->wi, pt.ns());
-                    if (!L.is_black() && !mutually_visible(ctx.scene, pt, *sampled)) L = RGB();
+                        pt.cos_towards(ls->wi);
+                    if (!L.is_black()) L *= transmittance_between(ctx, pt, *sampled, sampler);
                 }
             }
         }
@@ -172,7 +174,7 @@ Connection connect_bdpt(const BdptScene& ctx, PathVertex* light_vertices,
         if (qs.is_connectible() && pt.is_connectible()) {
             L = qs.beta * qs.f(pt, TransportMode::Importance) * pt.f(qs, TransportMode::Radiance) *
                 pt.beta;
-            if (!L.is_black()) L *= geometry(ctx.scene, qs, pt);
+            if (!L.is_black()) L *= geometry(ctx, qs, pt, sampler);
         }
     }
     if (L.is_black() || !L.is_finite()) return c;

@@ -1,6 +1,7 @@
 #include "bidir/path_vertex.h"
 
 #include "core/stats.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -39,10 +40,16 @@ float PathVertex::pdf_area(const BdptScene& ctx, const PathVertex* prev,
         float pdf_pos;
         ctx.camera.pdf_we(Ray{p(), wn, kInfinity, si.time}, &pdf_pos, &pdf);
     } else {
-        if (!prev || !bsdf) return 0;
+        if (!prev) return 0;
         Vec3 wp = prev->p() - p();
         if (length_squared(wp) == 0) return 0;
-        pdf = bsdf.pdf_solid_angle(normalize(wp), wn);
+        if (kind == VertexKind::Medium) {
+            // The phase function is its own density.
+            pdf = hg_phase(normalize(wp), wn, medium->g());
+        } else {
+            if (!bsdf) return 0;
+            pdf = bsdf.pdf_solid_angle(normalize(wp), wn);
+        }
     }
     return convert_density(pdf, next);
 }
@@ -79,6 +86,29 @@ float PathVertex::pdf_light_origin(const BdptScene& ctx, const PathVertex& v) co
     float pdf_pos, pdf_dir;
     e->pdf_le(Ray{p(), w}, ng(), &pdf_pos, &pdf_dir);
     return pdf_pos * ctx.light_sampler.pmf(e);
+}
+
+const Medium* PathVertex::medium_towards(const BdptScene& ctx, const Vec3& w) const {
+    switch (kind) {
+        case VertexKind::Camera:
+            return ctx.scene.camera_medium();
+        case VertexKind::Light:
+            return light ? light->medium_towards(w, ng()) : nullptr;
+        case VertexKind::Surface:
+            return medium_after(si, w, medium);
+        case VertexKind::Medium:
+            return medium;
+    }
+    return nullptr;
+}
+
+RGB transmittance_between(const BdptScene& ctx, const PathVertex& a, const PathVertex& b,
+                          Sampler& sampler) {
+    if (!ctx.scene.has_media()) return RGB(mutually_visible(ctx.scene, a, b) ? 1.f : 0.f);
+    const Vec3 d = b.p() - a.p();
+    if (length_squared(d) == 0) return RGB();
+    return transmittance(ctx.scene, a.p(), a.offset(), b.p(), b.offset(),
+                         a.medium_towards(ctx, normalize(d)), a.si.time, sampler);
 }
 
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b) {

@@ -8,6 +8,7 @@
 #include "lights/light.h"
 #include "lights/light_sampler.h"
 #include "materials/bsdf.h"
+#include "media/medium.h"
 #include "scene/scene.h"
 
 namespace ml {
@@ -29,7 +30,8 @@ struct BdptScene {
     float infinite_light_density(const Vec3& w) const;
 };
 
-enum class VertexKind : uint8_t { Camera, Light, Surface };
+// Medium: a scattering event inside a participating medium (its phase function scatters).
+enum class VertexKind : uint8_t { Camera, Light, Surface, Medium };
 
 struct PathVertex {
     VertexKind kind = VertexKind::Surface;
@@ -48,6 +50,21 @@ struct PathVertex {
     // Light endpoints: the light; null for the vertex of an escaped camera ray, which stands
     // for every infinite light at once.
     const Light* light = nullptr;
+    // Surfaces: the participating medium the subpath arrived in; medium vertices: theirs.
+    const Medium* medium = nullptr;
+
+    // A scattering event at p in `m`, arrived at travelling along -wo.
+    static PathVertex in_medium(const Vec3& p, const Vec3& wo, const Medium* m, float time,
+                                const RGB& beta) {
+        PathVertex v;
+        v.kind = VertexKind::Medium;
+        v.si.p = p;
+        v.si.wo = wo;
+        v.si.time = time;
+        v.medium = m;
+        v.beta = beta;
+        return v;
+    }
 
     static PathVertex camera(const Vec3& p, const Vec3& n, const RGB& beta) {
         PathVertex v;
@@ -89,6 +106,8 @@ struct PathVertex {
                 return light && light->type() != LightType::DeltaDirection;
             case VertexKind::Surface:
                 return bsdf && bsdf.has_nonspecular();
+            case VertexKind::Medium:
+                return true;
         }
         return false;
     }
@@ -105,12 +124,21 @@ struct PathVertex {
     // The emitter this vertex lies on (area lights hit by camera subpaths, light endpoints).
     const Light* emitter() const { return kind == VertexKind::Light ? light : si.area_light; }
 
-    // BSDF value towards `next` (surfaces only).
+    // BSDF value towards `next` (surfaces), or the phase function's (medium vertices).
     RGB f(const PathVertex& next, TransportMode mode) const {
         Vec3 wi = next.p() - p();
-        if (length_squared(wi) == 0 || kind != VertexKind::Surface || !bsdf) return RGB();
+        if (length_squared(wi) == 0) return RGB();
+        if (kind == VertexKind::Medium) return RGB(hg_phase(si.wo, normalize(wi), medium->g()));
+        if (kind != VertexKind::Surface || !bsdf) return RGB();
         return bsdf.eval(si.wo, normalize(wi), mode);
     }
+    // The cosine a connection along unit direction w meets here: at surfaces the shading
+    // normal's, elsewhere 1.
+    float cos_towards(const Vec3& w) const {
+        return kind == VertexKind::Surface ? abs_dot(ns(), w) : 1.f;
+    }
+    // The participating medium a ray leaving this vertex along w starts in (null: none).
+    const Medium* medium_towards(const BdptScene& ctx, const Vec3& w) const;
 
     // Radiance this light vertex emits towards `v`.
     RGB Le(const BdptScene& ctx, const PathVertex& v) const;
@@ -137,5 +165,9 @@ struct PathVertex {
 
 // True if nothing blocks the segment between two vertices (offset off both surfaces).
 bool mutually_visible(const Scene& scene, const PathVertex& a, const PathVertex& b);
+// What passes between two vertices: 1 or 0 by mutually_visible in a scene without media, else
+// the media's transmittance from a to b through interface surfaces (0 at any other).
+RGB transmittance_between(const BdptScene& ctx, const PathVertex& a, const PathVertex& b,
+                          Sampler& sampler);
 
 }  // namespace ml

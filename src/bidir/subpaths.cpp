@@ -2,23 +2,50 @@
 
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
+#include "transport/spawn.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
 namespace {
 
-// Extends `path` (whose vertex -1 exists) by at most `max_vertices` vertices along `ray`;
-// `pdf_fwd` is the solid-angle density with which the previous vertex chose ray.d.
+// Extends `path` (whose vertex -1 exists) by at most `max_vertices` vertices along `ray`, which
+// starts in participating medium `medium` (null: none); `pdf_fwd` is the solid-angle density
+// with which the previous vertex chose ray.d. In a medium, delta tracking (as `path`'s) decides
+// where the ray scatters: a medium vertex whose density, as pbrt-v3's BDPT has it, leaves out
+// the distance's (the throughput carries it; every strategy's weight uses the same densities,
+// so the weights still sum to one).
 int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& scratch, RGB beta,
-                float pdf_fwd, int max_vertices, TransportMode mode, PathVertex* path) {
+                float pdf_fwd, int max_vertices, TransportMode mode, PathVertex* path,
+                const Medium* medium = nullptr) {
     if (max_vertices <= 0) return 0;
     int n = 0;
-    while (true) {
+    RGB unused_emission;
+    for (int crossings = 0; crossings < 4096; ++crossings) {
         if (beta.is_black() || !beta.is_finite()) break;
         PathVertex& vertex = path[n];
         PathVertex& prev = path[n - 1];
         // Intersect straight into the vertex (no zeroed temporary: this is the hot loop).
-        if (!ctx.scene.intersect(ray, &vertex.si)) {
+        const bool hit = ctx.scene.intersect(ray, &vertex.si);
+        if (medium) {
+            const UnitRay u = unit_ray(ray, hit ? vertex.si.t : kInfinity);
+            const MediumCollision ev =
+                track_medium(*medium, u.ray, u.tmax, sampler, &beta, &unused_emission, false);
+            if (ev.event == MediumEvent::Absorb) break;
+            if (ev.event == MediumEvent::Scatter) {
+                const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
+                vertex = PathVertex::in_medium(p, wo, medium, ray.time, beta);
+                vertex.pdf_fwd = prev.convert_density(pdf_fwd, vertex);
+                if (++n >= max_vertices) break;
+                const Vec3 wi = sample_hg_phase(wo, medium->g(), sampler.get_2d());
+                // The phase function is its own density, the same both ways.
+                pdf_fwd = hg_phase(wo, wi, medium->g());
+                prev.pdf_rev = vertex.convert_density(pdf_fwd, prev);
+                ray = Ray{p, wi, kInfinity, ray.time};
+                continue;
+            }
+        }
+        if (!hit) {
             // Camera rays that escape end on the infinite lights (one vertex for all of them).
             if (mode == TransportMode::Radiance && !ctx.scene.infinite_lights().empty()) {
                 vertex = PathVertex::light_endpoint(nullptr, ray.o + ray.d, -ray.d, beta, pdf_fwd);
@@ -26,6 +53,15 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
             }
             break;
         }
+        if (medium || vertex.si.mesh && vertex.si.mesh->medium_interface) {
+            if (is_interface(vertex.si)) {
+                // A medium boundary only: the ray goes on, in the medium beyond.
+                medium = medium_after(vertex.si, ray.d, medium);
+                ray = Ray{vertex.si.offset_origin(ray.d), ray.d, kInfinity, ray.time};
+                continue;
+            }
+        }
+        vertex.medium = medium;
         vertex.kind = VertexKind::Surface;
         vertex.delta = false;
         vertex.light = nullptr;
@@ -52,6 +88,7 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
         }
         prev.pdf_rev = vertex.convert_density(pdf_rev, prev);
         ray = spawn_ray(vertex.si, bs->wi);
+        medium = medium_after(vertex.si, bs->wi, medium);
     }
     return n;
 }
@@ -68,7 +105,7 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
     float pdf_pos, pdf_dir;
     ctx.camera.pdf_we(ray, &pdf_pos, &pdf_dir);
     return 1 + random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices - 1,
-                           TransportMode::Radiance, path + 1);
+                           TransportMode::Radiance, path + 1, ctx.scene.camera_medium());
 }
 
 int continue_subpath(const BdptScene& ctx, const Ray& ray, float pdf_dir, Sampler& sampler,
@@ -101,7 +138,8 @@ int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer
     ray.time = time;
     if (path[0].on_surface()) ray.o = path[0].si.offset_origin(ray.d);
     int n = random_walk(ctx, ray, sampler, scratch, beta, les->pdf_dir, max_vertices - 1,
-                        TransportMode::Importance, path + 1);
+                        TransportMode::Importance, path + 1,
+                        sl->light->medium_towards(les->ray.d, les->n_light));
 
     // Infinite lights: the first hit's density is the disk's (planar, times its cosine), and
     // the light vertex's is the direction's.

@@ -190,20 +190,21 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     auto integrator = info->create(settings);
     settings.check_unused();
     validate(opt.bias_check);
-    // Participating media: so far `path` and `lighttracer` carry light through them.
+    // Participating media: so far `path`, `lighttracer` and `bdpt` carry light through them.
     if (has_media(desc)) {
-        if (name != "path" && name != "lighttracer")
+        if (name != "path" && name != "lighttracer" && name != "bdpt")
             throw UsageError(fmt::format(
                 "integrator \"{}\" does not render participating media yet (the scene has "
-                "MakeNamedMedium/MediumInterface); render it with --integrator path or "
+                "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt or "
                 "lighttracer",
                 name));
-        if (name == "lighttracer")
+        if (name != "path")
             for (const auto& m : desc.media)
                 if (m->emits())
-                    throw UsageError(
-                        "integrator \"lighttracer\" does not carry light emitted by a medium "
-                        "(no light path starts in one); render it with --integrator path");
+                    throw UsageError(fmt::format(
+                        "integrator \"{}\" does not carry light emitted by a medium (no light "
+                        "path starts in one); render it with --integrator path",
+                        name));
         if (bias_check_enabled(opt.bias_check, name))
             throw UsageError("--bias-check does not handle participating media yet");
     }
