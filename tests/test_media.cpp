@@ -216,7 +216,7 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
         "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\n"
         "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
         "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 0 1 ]\n";
-    for (const char* integrator : {"lightcuts", "bdlightcuts", "manylight", "vpl", "pssmlt"}) {
+    for (const char* integrator : {"lightcuts", "bdlightcuts", "manylight", "vpl", "mlt"}) {
         RenderOptions opt = options(1);
         opt.integrator = integrator;
         try {
@@ -229,7 +229,7 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
         }
     }
     // Light paths start at the lights, never in an emitting medium.
-    for (const char* integrator : {"lighttracer", "bdpt"}) try {
+    for (const char* integrator : {"lighttracer", "bdpt", "pssmlt"}) try {
             RenderOptions opt = options(1);
             opt.integrator = integrator;
             render_text(

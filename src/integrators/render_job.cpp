@@ -190,13 +190,14 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     auto integrator = info->create(settings);
     settings.check_unused();
     validate(opt.bias_check);
-    // Participating media: so far `path`, `lighttracer` and `bdpt` carry light through them.
+    // Participating media: so far `path`, `lighttracer`, `bdpt` and `pssmlt` (over BDPT's or
+    // path's paths) carry light through them.
     if (has_media(desc)) {
-        if (name != "path" && name != "lighttracer" && name != "bdpt")
+        if (name != "path" && name != "lighttracer" && name != "bdpt" && name != "pssmlt")
             throw UsageError(fmt::format(
                 "integrator \"{}\" does not render participating media yet (the scene has "
-                "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt or "
-                "lighttracer",
+                "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt, "
+                "lighttracer or pssmlt",
                 name));
         if (name != "path")
             for (const auto& m : desc.media)
