@@ -255,6 +255,58 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
                        1, 1, "\"g\" must be in (-1, 1)");
     expect_scene_error("MakeNamedMedium \"a\" \"string type\" \"fluffy\"\n", 1, 1,
                        "unknown medium type \"fluffy\"");
+    expect_scene_error(
+        "MakeNamedMedium \"a\" \"string type\" \"rgbgrid\" \"rgb sigma_a\" [ 1 2 3  4 5 6 ]\n"
+        "  \"rgb sigma_s\" [ 1 2 3 ]\n",
+        1, 1, "2 \"sigma_a\" values but 1 \"sigma_s\" values");
+    expect_scene_error(
+        "MakeNamedMedium \"a\" \"string type\" \"rgbgrid\" \"rgb sigma_a\" [ 1 2 3  4 5 ]\n", 1, 45,
+        "5 values, not a positive multiple of 3");
+    expect_scene_error("MakeNamedMedium \"a\" \"string type\" \"rgbgrid\" \"rgb Le\" [ 1 2 3 ]\n",
+                       1, 1, "needs \"rgb sigma_a\" or \"rgb sigma_s\" values");
+}
+
+TEST(Media, AnRgbGridIsTheUniformGridItSpellsOut) {
+    // pbrt-v4's rgbgrid with each cell's coefficients and emission written out renders as the
+    // uniformgrid of densities and emission scales they come from.
+    const float d[8] = {0.2f, 1, 0.5f, 0.1f, 0.8f, 0.3f, 1.2f, 0.6f};
+    const RGB sa(0.5f, 1, 2), ss(0.4f, 0.2f, 0.6f), Le(1, 2, 3);
+    std::string dens, rgb_a, rgb_s, rgb_le, lescale;
+    for (float v : d) {
+        dens += fmt::format(" {}", v);
+        lescale += fmt::format(" {}", 2 * v);
+        rgb_a += fmt::format("  {} {} {}", sa.r * v, sa.g * v, sa.b * v);
+        rgb_s += fmt::format("  {} {} {}", ss.r * v, ss.g * v, ss.b * v);
+        rgb_le += fmt::format("  {} {} {}", Le.r * 2 * v, Le.g * 2 * v, Le.b * 2 * v);
+    }
+    const std::string box =
+        " \"integer nx\" [ 2 ] \"integer ny\" [ 2 ] \"integer nz\" [ 2 ]"
+        " \"point3 p0\" [ -2 -2 1 ] \"point3 p1\" [ 2 2 5 ] \"float g\" [ 0.3 ]\n";
+    const std::string grid =
+        "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [" + dens +
+        " ] \"rgb sigma_a\" [ 0.5 1 2 ] \"rgb sigma_s\" [ 0.4 0.2 0.6 ] \"rgb Le\" [ 1 2 3 ]"
+        " \"float Lescale\" [" +
+        lescale + " ]" + box;
+    const std::string rgb = "MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"rgb sigma_a\" [" +
+                            rgb_a + " ] \"rgb sigma_s\" [" + rgb_s + " ] \"rgb Le\" [" + rgb_le +
+                            " ]" + box;
+    auto render = [&](const std::string& medium_text) {
+        return render_text(medium_text +
+                               "MediumInterface \"\" \"m\"\nLookAt 0 0 0  0 0 1  0 1 0\n"
+                               "Camera \"perspective\" \"float fov\" [ 50 ]\n"
+                               "Film \"rgb\" \"integer xresolution\" [ 16 ] "
+                               "\"integer yresolution\" [ 16 ]\nSampler \"independent\"\n"
+                               "Integrator \"path\" \"integer maxdepth\" [ 3 ]\nWorldBegin\n"
+                               "LightSource \"point\" \"point3 from\" [ 0.5 0.5 2 ] "
+                               "\"rgb I\" [ 2 2 2 ]\n",
+                           options(64))
+            .image;
+    };
+    const Image a = render(grid), b = render(rgb);
+    for (int c = 0; c < 3; ++c) {
+        const MeanDifference m = mean_difference(b, a, c);
+        EXPECT_NEAR(m.mean, 0, 0.005 * m.reference_mean) << "channel " << c;
+    }
 }
 
 namespace {

@@ -53,6 +53,9 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
     } else if (d == "MakeNamedMedium" && t == "uniformgrid") {
         add("density", "\"float density\" [ 1 0.5 ]");
         add("nx", "\"integer nx\" [ 2 ]");
+    } else if (d == "MakeNamedMedium" && t == "rgbgrid") {
+        add("sigma_a", "\"rgb sigma_a\" [ 0.1 0.2 0.3  0.3 0.2 0.1 ]");
+        add("nx", "\"integer nx\" [ 2 ]");
     } else if (d == "Material" && t == "mix") {
         add("materials", "\"string materials\" [ \"ma\" \"mb\" ]");
     } else if (d == "Shape" && t == "loopsubdiv") {

@@ -97,6 +97,19 @@ std::optional<Vec3> ParameterList::get_point3(const std::string& name) const {
     return Vec3(float(p->numbers[0]), float(p->numbers[1]), float(p->numbers[2]));
 }
 
+std::vector<RGB> ParameterList::get_rgbs(const std::string& name) const {
+    const Param* p = find_typed(name, {"rgb", "color"}, "rgb");
+    if (!p) return {};
+    if (p->numbers.empty() || p->numbers.size() % 3 != 0)
+        throw_input_error(p->loc, "parameter \"rgb {}\": {} values, not a positive multiple of 3",
+                          name, p->numbers.size());
+    expect_finite(*p);
+    std::vector<RGB> out;
+    for (size_t i = 0; i < p->numbers.size(); i += 3)
+        out.emplace_back(float(p->numbers[i]), float(p->numbers[i + 1]), float(p->numbers[i + 2]));
+    return out;
+}
+
 std::optional<RGB> ParameterList::get_rgb(const std::string& name) const {
     const Param* p = find_typed(name, {"rgb", "color", "spectrum", "blackbody"}, "rgb");
     if (!p) return std::nullopt;

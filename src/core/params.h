@@ -45,6 +45,8 @@ public:
     std::optional<Vec3> get_point3(const std::string& name) const;  // point3 / vector3 / normal
     // An RGB from "rgb", a single-valued or named "spectrum", or "blackbody" (normalised).
     std::optional<RGB> get_rgb(const std::string& name) const;
+    // An "rgb" array of one or more triples (pbrt-v4's rgbgrid medium); empty when absent.
+    std::vector<RGB> get_rgbs(const std::string& name) const;
     // The texture name of a "texture" parameter, or "" when absent.
     std::string get_texture(const std::string& name) const;
 

@@ -54,66 +54,51 @@ private:
     float m_sigma_maj = 0;
 };
 
-// pbrt-v4's SampledGrid: nx x ny x nz values at the cells' centres of the unit cube,
-// interpolated trilinearly; zero outside.
+// pbrt-v4's SampledGrid: nx x ny x nz values (float or RGB) at the cells' centres of the unit
+// cube, interpolated trilinearly; zero outside.
+template <class T>
 class Grid {
 public:
     Grid() = default;
-    Grid(std::vector<float> values, int nx, int ny, int nz)
+    Grid(std::vector<T> values, int nx, int ny, int nz)
         : m_v(std::move(values)), m_nx(nx), m_ny(ny), m_nz(nz) {}
-    float lookup(const Vec3& p) const {
+    T lookup(const Vec3& p) const {
         const float x = p.x * float(m_nx) - 0.5f, y = p.y * float(m_ny) - 0.5f,
                     z = p.z * float(m_nz) - 0.5f;
         const int ix = int(std::floor(x)), iy = int(std::floor(y)), iz = int(std::floor(z));
         const float dx = x - float(ix), dy = y - float(iy), dz = z - float(iz);
         auto v = [&](int i, int j, int k) {
-            if (i < 0 || j < 0 || k < 0 || i >= m_nx || j >= m_ny || k >= m_nz) return 0.f;
+            if (i < 0 || j < 0 || k < 0 || i >= m_nx || j >= m_ny || k >= m_nz) return T{};
             return m_v[(size_t(k) * size_t(m_ny) + size_t(j)) * size_t(m_nx) + size_t(i)];
         };
-        const float d00 = lerp(dx, v(ix, iy, iz), v(ix + 1, iy, iz));
-        const float d10 = lerp(dx, v(ix, iy + 1, iz), v(ix + 1, iy + 1, iz));
-        const float d01 = lerp(dx, v(ix, iy, iz + 1), v(ix + 1, iy, iz + 1));
-        const float d11 = lerp(dx, v(ix, iy + 1, iz + 1), v(ix + 1, iy + 1, iz + 1));
-        return lerp(dz, lerp(dy, d00, d10), lerp(dy, d01, d11));
+        auto mix = [](float t, const T& a, const T& b) { return a * (1 - t) + b * t; };
+        const T d00 = mix(dx, v(ix, iy, iz), v(ix + 1, iy, iz));
+        const T d10 = mix(dx, v(ix, iy + 1, iz), v(ix + 1, iy + 1, iz));
+        const T d01 = mix(dx, v(ix, iy, iz + 1), v(ix + 1, iy, iz + 1));
+        const T d11 = mix(dx, v(ix, iy + 1, iz + 1), v(ix + 1, iy + 1, iz + 1));
+        return mix(dz, mix(dy, d00, d10), mix(dy, d01, d11));
     }
-    float max_value() const {
-        float m = 0;
-        for (float x : m_v) m = std::max(m, x);
-        return m;
-    }
+    bool empty() const { return m_v.empty(); }
+    const std::vector<T>& values() const { return m_v; }
 
 private:
-    std::vector<float> m_v;
+    std::vector<T> m_v;
     int m_nx = 0, m_ny = 0, m_nz = 0;
 };
 
-// pbrt-v4's "uniformgrid": sigma_a and sigma_s scaled by a density grid over the box [p0, p1]
-// of medium space; emission Le scaled by "Lescale" (one value, or a grid of the density's size).
-// The majorant is the largest density's extinction over the part of the ray inside the box.
-class GridMedium final : public Medium {
+// A medium inside the box [p0, p1] of medium space, its coefficients looked up at the point's
+// coordinates in the unit cube; the majorant is one bound for the whole box, over the part of the
+// ray inside it.
+class BoxMedium : public Medium {
 public:
-    GridMedium(const Transform& medium_to_world, const Vec3& p0, const Vec3& p1, Grid density,
-               const RGB& sigma_a, const RGB& sigma_s, const RGB& Le, Grid le_scale, float g)
-        : m_world_to_medium(medium_to_world.inverse()),
-          m_p0(p0),
-          m_p1(p1),
-          m_density(std::move(density)),
-          m_sigma_a(sigma_a),
-          m_sigma_s(sigma_s),
-          m_Le(Le),
-          m_le_scale(std::move(le_scale)) {
+    BoxMedium(const Transform& medium_to_world, const Vec3& p0, const Vec3& p1, float g)
+        : m_world_to_medium(medium_to_world.inverse()), m_p0(p0), m_p1(p1) {
         m_g = g;
-        m_emits = !Le.is_black() && !sigma_a.is_black();
-        m_sigma_maj = m_density.max_value() * (sigma_a + sigma_s).max_component();
     }
     MediumProperties at(const Vec3& p_world) const override {
         const Vec3 p = m_world_to_medium.point(p_world);
-        const Vec3 u((p.x - m_p0.x) / (m_p1.x - m_p0.x), (p.y - m_p0.y) / (m_p1.y - m_p0.y),
-                     (p.z - m_p0.z) / (m_p1.z - m_p0.z));
-        const float d = m_density.lookup(u);
-        MediumProperties props{m_sigma_a * d, m_sigma_s * d, RGB()};
-        if (m_emits) props.Le = m_Le * m_le_scale.lookup(u);
-        return props;
+        return at_unit(Vec3((p.x - m_p0.x) / (m_p1.x - m_p0.x), (p.y - m_p0.y) / (m_p1.y - m_p0.y),
+                            (p.z - m_p0.z) / (m_p1.z - m_p0.z)));
     }
     std::optional<MajorantSegment> majorant(const Ray& ray, float tmax) const override {
         // The ray in medium space keeps its parameter (an affine map).
@@ -134,15 +119,90 @@ public:
         return MajorantSegment{t0, t1, m_sigma_maj};
     }
     bool homogeneous() const override { return false; }
-    std::string type() const override { return "uniformgrid"; }
+
+protected:
+    // The coefficients at u in the unit cube of the box.
+    virtual MediumProperties at_unit(const Vec3& u) const = 0;
+    float m_sigma_maj = 0;  // >= sigma_a + sigma_s in every channel, everywhere in the box
 
 private:
     Transform m_world_to_medium;
     Vec3 m_p0, m_p1;
-    Grid m_density;
+};
+
+float max_of(const std::vector<float>& v) {
+    float m = 0;
+    for (float x : v) m = std::max(m, x);
+    return m;
+}
+
+// pbrt-v4's "uniformgrid": sigma_a and sigma_s scaled by a density grid over the box [p0, p1]
+// of medium space; emission Le scaled by "Lescale" (one value, or a grid of the density's size).
+class GridMedium final : public BoxMedium {
+public:
+    GridMedium(const Transform& medium_to_world, const Vec3& p0, const Vec3& p1,
+               Grid<float> density, const RGB& sigma_a, const RGB& sigma_s, const RGB& Le,
+               Grid<float> le_scale, float g)
+        : BoxMedium(medium_to_world, p0, p1, g),
+          m_density(std::move(density)),
+          m_sigma_a(sigma_a),
+          m_sigma_s(sigma_s),
+          m_Le(Le),
+          m_le_scale(std::move(le_scale)) {
+        m_emits = !Le.is_black() && !sigma_a.is_black();
+        m_sigma_maj = max_of(m_density.values()) * (sigma_a + sigma_s).max_component();
+    }
+    std::string type() const override { return "uniformgrid"; }
+
+private:
+    MediumProperties at_unit(const Vec3& u) const override {
+        const float d = m_density.lookup(u);
+        MediumProperties props{m_sigma_a * d, m_sigma_s * d, RGB()};
+        if (m_emits) props.Le = m_Le * m_le_scale.lookup(u);
+        return props;
+    }
+    Grid<float> m_density;
     RGB m_sigma_a, m_sigma_s, m_Le;
-    Grid m_le_scale;
-    float m_sigma_maj = 0;
+    Grid<float> m_le_scale;
+};
+
+// pbrt-v4's "rgbgrid": sigma_a and sigma_s each an RGB grid (a missing one is 1 everywhere),
+// both times "scale"; emission an RGB grid times "Lescale".
+class RgbGridMedium final : public BoxMedium {
+public:
+    RgbGridMedium(const Transform& medium_to_world, const Vec3& p0, const Vec3& p1,
+                  Grid<RGB> sigma_a, Grid<RGB> sigma_s, float scale, Grid<RGB> Le, float le_scale,
+                  float g)
+        : BoxMedium(medium_to_world, p0, p1, g),
+          m_sigma_a(std::move(sigma_a)),
+          m_sigma_s(std::move(sigma_s)),
+          m_Le(std::move(Le)),
+          m_scale(scale),
+          m_le_scale(le_scale) {
+        m_emits = !m_Le.empty() && le_scale > 0;
+        // The interpolation never exceeds the largest cell, channel by channel.
+        const size_t n = std::max(m_sigma_a.values().size(), m_sigma_s.values().size());
+        float most = 0;
+        for (size_t i = 0; i < n; ++i) {
+            const RGB a = m_sigma_a.empty() ? RGB(1.f) : m_sigma_a.values()[i];
+            const RGB s = m_sigma_s.empty() ? RGB(1.f) : m_sigma_s.values()[i];
+            most = std::max(most, (a + s).max_component());
+        }
+        m_sigma_maj = scale * most;
+    }
+    std::string type() const override { return "rgbgrid"; }
+
+private:
+    MediumProperties at_unit(const Vec3& u) const override {
+        MediumProperties props{m_sigma_a.empty() ? RGB(1.f) : m_sigma_a.lookup(u),
+                               m_sigma_s.empty() ? RGB(1.f) : m_sigma_s.lookup(u), RGB()};
+        props.sigma_a *= m_scale;
+        props.sigma_s *= m_scale;
+        if (m_emits) props.Le = m_Le.lookup(u) * m_le_scale;
+        return props;
+    }
+    Grid<RGB> m_sigma_a, m_sigma_s, m_Le;
+    float m_scale, m_le_scale;
 };
 
 float checked_g(const ParameterList& params, const FileLoc& loc) {
@@ -157,21 +217,67 @@ void check_non_negative(const RGB& c, const char* name, const FileLoc& loc) {
         throw_input_error(loc, "medium: \"{}\" must be finite and non-negative", name);
 }
 
+// The box of a grid medium: "p0" below "p1" on every axis.
+std::pair<Vec3, Vec3> grid_box(const ParameterList& params, const char* type, const FileLoc& loc) {
+    const Vec3 p0 = params.get_point3("p0").value_or(Vec3(0, 0, 0));
+    const Vec3 p1 = params.get_point3("p1").value_or(Vec3(1, 1, 1));
+    if (!(p0.x < p1.x && p0.y < p1.y && p0.z < p1.z))
+        throw_input_error(loc, "medium \"{}\": \"p0\" must be below \"p1\" on every axis", type);
+    return {p0, p1};
+}
+
+std::unique_ptr<Medium> create_rgb_grid(const ParameterList& params,
+                                        const Transform& medium_to_world, const FileLoc& loc) {
+    const std::vector<RGB> sigma_a = params.get_rgbs("sigma_a"),
+                           sigma_s = params.get_rgbs("sigma_s"), Le = params.get_rgbs("Le");
+    if (sigma_a.empty() && sigma_s.empty())
+        throw_input_error(loc,
+                          "medium \"rgbgrid\": needs \"rgb sigma_a\" or \"rgb sigma_s\" values");
+    const size_t n = sigma_a.empty() ? sigma_s.size() : sigma_a.size();
+    if (!sigma_a.empty() && !sigma_s.empty() && sigma_s.size() != n)
+        throw_input_error(loc,
+                          "medium \"rgbgrid\": {} \"sigma_a\" values but {} \"sigma_s\" values",
+                          sigma_a.size(), sigma_s.size());
+    if (!Le.empty() && sigma_a.empty())
+        throw_input_error(loc, "medium \"rgbgrid\": \"Le\" needs \"sigma_a\" values too");
+    if (!Le.empty() && Le.size() != n)
+        throw_input_error(loc, "medium \"rgbgrid\": {} \"Le\" values where there are {} cells",
+                          Le.size(), n);
+    const int nx = params.get_int("nx", 1), ny = params.get_int("ny", 1),
+              nz = params.get_int("nz", 1);
+    if (nx < 1 || ny < 1 || nz < 1 || size_t(nx) * size_t(ny) * size_t(nz) != n)
+        throw_input_error(loc, "medium \"rgbgrid\": {} values where nx * ny * nz = {} x {} x {}", n,
+                          nx, ny, nz);
+    for (const auto* v : {&sigma_a, &sigma_s, &Le})
+        for (const RGB& c : *v) check_non_negative(c, "rgbgrid values", loc);
+    const float scale = params.get_float("scale", 1), le_scale = params.get_float("Lescale", 1);
+    if (!(scale >= 0) || !(le_scale >= 0))
+        throw_input_error(loc, "medium \"rgbgrid\": \"scale\" and \"Lescale\" must be >= 0");
+    const float g = checked_g(params, loc);
+    const auto [p0, p1] = grid_box(params, "rgbgrid", loc);
+    auto grid = [&](const std::vector<RGB>& v) {
+        return v.empty() ? Grid<RGB>() : Grid<RGB>(v, nx, ny, nz);
+    };
+    return std::make_unique<RgbGridMedium>(medium_to_world, p0, p1, grid(sigma_a), grid(sigma_s),
+                                           scale, grid(Le), le_scale, g);
+}
+
 }  // namespace
 
 std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterList& params,
                                       const Transform& medium_to_world, const FileLoc& loc) {
-    if (type == "rgbgrid" || type == "cloud" || type == "nanovdb")
+    if (type == "cloud" || type == "nanovdb")
         throw_input_error(loc,
-                          "medium \"{}\" is not supported yet (manylight reads \"homogeneous\" "
-                          "and \"uniformgrid\")",
+                          "medium \"{}\" is not supported yet (manylight reads \"homogeneous\", "
+                          "\"uniformgrid\" and \"rgbgrid\")",
                           type);
-    if (type != "homogeneous" && type != "uniformgrid")
+    if (type != "homogeneous" && type != "uniformgrid" && type != "rgbgrid")
         throw_input_error(loc, "unknown medium type \"{}\"", type);
     if (params.has("preset"))
         throw_input_error(params.find("preset")->loc,
                           "medium: \"preset\" (pbrt-v4's measured scattering coefficients) is "
                           "not supported yet: give sigma_a and sigma_s");
+    if (type == "rgbgrid") return create_rgb_grid(params, medium_to_world, loc);
     const float scale = params.get_float("scale", 1);
     const RGB sigma_a = medium_rgb(params, "sigma_a", RGB(1.f)) * scale;
     const RGB sigma_s = medium_rgb(params, "sigma_s", RGB(1.f)) * scale;
@@ -204,21 +310,18 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
                               "medium \"uniformgrid\": a \"density\" value is negative "
                               "or not finite");
     const std::vector<float> le_scale = params.get_floats("Lescale");
-    Grid le_grid({1.f}, 1, 1, 1);
+    Grid<float> le_grid({1.f}, 1, 1, 1);
     if (!le_scale.empty()) {
         if (le_scale.size() != density.size())
             throw_input_error(loc,
                               "medium \"uniformgrid\": {} \"Lescale\" values where the density "
                               "has {}",
                               le_scale.size(), density.size());
-        le_grid = Grid(le_scale, nx, ny, nz);
+        le_grid = Grid<float>(le_scale, nx, ny, nz);
     }
-    const Vec3 p0 = params.get_point3("p0").value_or(Vec3(0, 0, 0));
-    const Vec3 p1 = params.get_point3("p1").value_or(Vec3(1, 1, 1));
-    if (!(p0.x < p1.x && p0.y < p1.y && p0.z < p1.z))
-        throw_input_error(loc, "medium \"uniformgrid\": \"p0\" must be below \"p1\" on every axis");
-    return std::make_unique<GridMedium>(medium_to_world, p0, p1, Grid(density, nx, ny, nz), sigma_a,
-                                        sigma_s, Le, std::move(le_grid), g);
+    const auto [p0, p1] = grid_box(params, "uniformgrid", loc);
+    return std::make_unique<GridMedium>(medium_to_world, p0, p1, Grid<float>(density, nx, ny, nz),
+                                        sigma_a, sigma_s, Le, std::move(le_grid), g);
 }
 
 }  // namespace ml
