@@ -53,7 +53,7 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
             }
             break;
         }
-        if (medium || vertex.si.mesh && vertex.si.mesh->medium_interface) {
+        if (medium || (vertex.si.mesh && vertex.si.mesh->medium_interface)) {
             if (is_interface(vertex.si)) {
                 // A medium boundary only: the ray goes on, in the medium beyond.
                 medium = medium_after(vertex.si, ray.d, medium);
