@@ -128,6 +128,7 @@ RenderOptions ViewRenderer::options_for(bool moving, const std::array<float, 9>&
     o.threads = m_config.threads;
     o.width = m_config.width;
     o.height = m_config.height;
+    o.whole_image = true;
     o.look_at = view;
     o.spp = spp;
     if (moving) {

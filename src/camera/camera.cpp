@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/assert.h"
 #include "sampling/warps.h"
 
 namespace ml {
@@ -18,6 +19,8 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
       m_camera_to_world(camera_to_world.start()),
       m_width(width),
       m_height(height),
+      m_full_width(width),
+      m_full_height(height),
       m_loc(params.loc()) {
     if (type == "perspective") {
         m_projection = Projection::Perspective;
@@ -96,10 +99,25 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
     m_image_area = (m_screen[1] - m_screen[0]) * (m_screen[3] - m_screen[2]) * sqr(m_tan_half_fov);
 }
 
+void PerspectiveCamera::set_crop(int x0, int y0, int width, int height) {
+    ML_ASSERT(x0 >= 0 && y0 >= 0 && width > 0 && height > 0 && x0 + width <= m_full_width &&
+                  y0 + height <= m_full_height,
+              "camera crop outside the image");
+    // The image area shrinks with the crop: raster to screen is linear, so its share of the
+    // pixels is its share of A, and importance stays normalised over the film that is rendered.
+    m_image_area *= float(width) * float(height) / (float(m_width) * float(m_height));
+    m_crop_x = x0, m_crop_y = y0, m_width = width, m_height = height;
+}
+
+Vec2 PerspectiveCamera::full_uv(const Vec2& p_film) const {
+    return Vec2((p_film.x + float(m_crop_x)) / float(m_full_width),
+                (p_film.y + float(m_crop_y)) / float(m_full_height));
+}
+
 Vec2 PerspectiveCamera::raster_of(const Vec3& p) const {
     float sx = p.x / m_tan_half_fov, sy = p.y / m_tan_half_fov;
-    return Vec2((sx - m_screen[0]) / (m_screen[1] - m_screen[0]) * m_width,
-                (m_screen[3] - sy) / (m_screen[3] - m_screen[2]) * m_height);
+    return Vec2((sx - m_screen[0]) / (m_screen[1] - m_screen[0]) * m_full_width - float(m_crop_x),
+                (m_screen[3] - sy) / (m_screen[3] - m_screen[2]) * m_full_height - float(m_crop_y));
 }
 
 void PerspectiveCamera::make_lens_system(const ParameterList& params, float film_diagonal_mm,
@@ -207,8 +225,7 @@ Ray PerspectiveCamera::generate_ray(const CameraSample& s, float* weight) const 
         if (!weight)
             throw std::logic_error(
                 "generate_ray: the realistic camera's rays carry weights the caller must take");
-        LensRay lr = m_lens->generate(
-            Vec2(s.p_film.x / float(m_width), s.p_film.y / float(m_height)), s.p_lens);
+        LensRay lr = m_lens->generate(full_uv(s.p_film), s.p_lens);
         *weight = lr.weight;
         ray = lr.weight > 0 ? lr.ray : Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)};
     } else {
@@ -226,8 +243,9 @@ Ray PerspectiveCamera::generate_ray(const CameraSample& s, float* weight) const 
 
 Ray PerspectiveCamera::perspective_ray(const CameraSample& s) const {
     // Raster to screen window to the z = 1 plane of camera space.
-    float sx = m_screen[0] + (s.p_film.x / m_width) * (m_screen[1] - m_screen[0]);
-    float sy = m_screen[3] - (s.p_film.y / m_height) * (m_screen[3] - m_screen[2]);
+    const Vec2 uv = full_uv(s.p_film);
+    float sx = m_screen[0] + uv.x * (m_screen[1] - m_screen[0]);
+    float sy = m_screen[3] - uv.y * (m_screen[3] - m_screen[2]);
     Vec3 dir = normalize(Vec3(sx * m_tan_half_fov, sy * m_tan_half_fov, 1.f));
     Ray ray{Vec3(0, 0, 0), dir};
     if (m_lens_radius > 0.f) {
@@ -243,8 +261,9 @@ Ray PerspectiveCamera::perspective_ray(const CameraSample& s) const {
 
 Ray PerspectiveCamera::orthographic_ray(const CameraSample& s) const {
     // Raster to the screen window, which is the plane z = 0 of camera space; rays along +z.
-    float sx = m_screen[0] + (s.p_film.x / m_width) * (m_screen[1] - m_screen[0]);
-    float sy = m_screen[3] - (s.p_film.y / m_height) * (m_screen[3] - m_screen[2]);
+    const Vec2 uv = full_uv(s.p_film);
+    float sx = m_screen[0] + uv.x * (m_screen[1] - m_screen[0]);
+    float sy = m_screen[3] - uv.y * (m_screen[3] - m_screen[2]);
     Ray ray{Vec3(sx, sy, 0), Vec3(0, 0, 1)};
     if (m_lens_radius > 0.f) {
         // pbrt-v4's thin lens, as it is: the ray leaves the lens point around the camera's
@@ -261,7 +280,7 @@ Ray PerspectiveCamera::spherical_ray(const CameraSample& s) const {
     // The film is the unit square of the mapping (pbrt-v4's SphericalCamera): equirectangular
     // with theta from +z down and phi around it, or the equal-area octahedral square; then y and
     // z swap, so the top of an equirectangular image looks up (+y).
-    Vec2 uv(s.p_film.x / float(m_width), s.p_film.y / float(m_height));
+    const Vec2 uv = full_uv(s.p_film);
     Vec3 dir;
     if (m_mapping == SphericalMapping::EquiRectangular) {
         float theta = kPi * uv.y, phi = 2 * kPi * uv.x;

@@ -82,8 +82,14 @@ public:
     }
     // Area of the lens (1 for a pinhole, whose position is a delta).
     float lens_area() const { return m_lens_radius > 0 ? kPi * sqr(m_lens_radius) : 1.f; }
+    // The film that is rendered, pixels: the whole image, or its crop (set_crop).
     int width() const { return m_width; }
     int height() const { return m_height; }
+    // Renders only the pixels [x0, x0 + width) x [y0, y0 + height) of the image (pbrt-v4's film
+    // pixel bounds): raster positions (CameraSample::p_film, importance's, sample_wi's) are then
+    // the crop's, (0, 0) at its top-left corner, and importance is normalised over the crop, so
+    // light paths joined to the lens fill the crop as camera samples do.
+    void set_crop(int x0, int y0, int width, int height);
     Transform camera_to_world(float time) const {
         return m_moves ? m_motion.at(time) : m_camera_to_world;
     }
@@ -108,8 +114,10 @@ public:
     }
 
 private:
-    // Raster position of a camera-space point on the plane z = 1.
+    // Raster position (the crop's) of a camera-space point on the plane z = 1.
     Vec2 raster_of(const Vec3& p_plane) const;
+    // A raster position (the crop's) as a fraction of the whole image.
+    Vec2 full_uv(const Vec2& p_film) const;
     // Throws unless has_importance(): light paths cannot reach this camera.
     void require_importance() const;
     // The camera-space ray of each projection, before the camera-to-world transform.
@@ -129,9 +137,11 @@ private:
     bool m_moves;
     Transform m_camera_to_world, m_world_to_camera;  // at the start
     Vec3 m_forward;
-    float m_image_area;  // A: the film's area on the plane z = 1 of camera space
-    int m_width, m_height;
-    float m_screen[4];  // x min, x max, y min, y max
+    float m_image_area;               // A: the film's area on the plane z = 1 of camera space
+    int m_width, m_height;            // the crop's size (the image's without one)
+    int m_full_width, m_full_height;  // the image's
+    int m_crop_x = 0, m_crop_y = 0;   // the crop's top-left pixel in the image
+    float m_screen[4];                // x min, x max, y min, y max
     float m_tan_half_fov;
     float m_lens_radius, m_focal_distance;
     Vec2 m_raster_margin;

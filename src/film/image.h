@@ -17,6 +17,15 @@ struct Image {
     // True when the file held 8-bit (or other low-precision integer) values, which are usually
     // sRGB-encoded; the values here are as stored, scaled to [0, 1], not linearised.
     bool low_dynamic_range = false;
+    // The data window's place in the display window (OpenImageIO's ImageSpec x, y, full_width,
+    // full_height): a cropped render (Film "cropwindow"/"pixelbounds") holds only the crop's
+    // pixels, at (x, y) of an image full_width x full_height. Full sizes of 0 mean the image is
+    // its own display window.
+    int x = 0, y = 0, full_width = 0, full_height = 0;
+    bool cropped() const {
+        return x != 0 || y != 0 || (full_width && full_width != width) ||
+               (full_height && full_height != height);
+    }
 
     Image() = default;
     Image(int w, int h) : width(w), height(h), pixels(size_t(w) * h) {}

@@ -51,6 +51,10 @@ Image read_image(const std::string& path, const FileLoc& loc) {
         throw_input_error(loc, "cannot read image \"{}\": {}", path, err);
     }
     Image img(w, h);
+    if (spec.x != 0 || spec.y != 0 || spec.full_width != w || spec.full_height != h) {
+        img.x = spec.x, img.y = spec.y;
+        img.full_width = spec.full_width, img.full_height = spec.full_height;
+    }
     OIIO::TypeDesc fmt = spec.format;
     img.low_dynamic_range = fmt == OIIO::TypeDesc::UINT8 || fmt == OIIO::TypeDesc::INT8 ||
                             fmt == OIIO::TypeDesc::UINT16;
@@ -79,6 +83,12 @@ void write_image(const std::string& path, const Image& image) {
     OIIO::ImageSpec spec(w, h, 3,
                          ldr ? OIIO::TypeDesc::UINT8
                              : (ext == ".exr" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT));
+    if (image.cropped()) {
+        spec.x = image.x, spec.y = image.y;
+        spec.full_x = spec.full_y = 0;
+        spec.full_width = image.full_width ? image.full_width : w;
+        spec.full_height = image.full_height ? image.full_height : h;
+    }
     std::vector<float> data(size_t(w) * h * 3);
     for (size_t i = 0; i < size_t(w) * h; ++i)
         for (int k = 0; k < 3; ++k) {

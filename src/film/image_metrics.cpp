@@ -2,14 +2,37 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
 
 namespace ml {
 
-ImageDiff compare_images(const Image& a, const Image& b) {
+namespace {
+
+// Cropped images (a data window inside a display window) compare pixel for pixel only when
+// they hold the same crop; a whole image is its own display window.
+void require_same_window(const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height)
         throw UsageError("images differ in size: " + std::to_string(a.width) + "x" +
                          std::to_string(a.height) + " and " + std::to_string(b.width) + "x" +
                          std::to_string(b.height));
+    auto full = [](const Image& i) {
+        return std::pair(i.full_width ? i.full_width : i.width,
+                         i.full_height ? i.full_height : i.height);
+    };
+    if (a.x != b.x || a.y != b.y || full(a) != full(b))
+        throw UsageError(fmt::format(
+            "images differ in their data window: {}x{} at ({}, {}) of {}x{} and {}x{} at ({}, "
+            "{}) of {}x{}",
+            a.width, a.height, a.x, a.y, full(a).first, full(a).second, b.width, b.height, b.x, b.y,
+            full(b).first, full(b).second));
+}
+
+}  // namespace
+
+ImageDiff compare_images(const Image& a, const Image& b) {
+    require_same_window(a, b);
     ImageDiff d;
     double rel = 0, se = 0, sa[3] = {0, 0, 0}, sb[3] = {0, 0, 0};
     for (size_t i = 0; i < a.pixels.size(); ++i)
@@ -47,8 +70,8 @@ Image box_downsample(const Image& img, int k) {
 
 std::vector<BlockDiff> worst_blocks(const Image& a, const Image& ref, int block, int count,
                                     float min_mean, bool per_channel) {
-    if (block <= 0 || a.width != ref.width || a.height != ref.height)
-        throw UsageError("worst_blocks: the images differ in size, or the block is not positive");
+    if (block <= 0) throw UsageError("worst_blocks: the block is not positive");
+    require_same_window(a, ref);
     // The whole blocks only.
     auto whole = [&](const Image& img) {
         Image c((img.width / block) * block, (img.height / block) * block);

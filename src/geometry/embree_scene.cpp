@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/stats.h"
+#include "geometry/alpha_test.h"
 #include "geometry/curves.h"
 
 namespace ml {
@@ -72,13 +73,9 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
         float a = mesh->alpha->eval(o + d * t, uv0 * w + uv1 * u + uv2 * v,
                                     length_squared(ng) > 0 ? normalize(ng) : ng);
         if (a >= 1) continue;
-        bool keep = false;
-        if (a > 0) {
-            uint64_t h =
-                hash_ints(float_bits(o.x, o.y), float_bits(o.z, d.x), float_bits(d.y, d.z), prim);
-            keep = float(h >> 40) * 0x1p-24f < a;
-        }
-        if (!keep) args->valid[i] = 0;
+        if (!alpha_keeps(a, hash_ints(float_bits(o.x, o.y), float_bits(o.z, d.x),
+                                      float_bits(d.y, d.z), prim)))
+            args->valid[i] = 0;
     }
 }
 

@@ -5,6 +5,7 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -47,10 +48,85 @@ int default_max_depth(const IntegratorInfo& info) {
     return 5;
 }
 
+// The pixels of the image a render covers (pbrt-v4's film pixel bounds), [x0, x1) x [y0, y1).
+struct PixelBounds {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+// The film's "cropwindow" (fractions of the image) or "pixelbounds" (pixels), as pbrt-v4 reads
+// them: a crop window's corners are clamped to [0, 1] and rounded up to pixels (ceil(res * f) at
+// both ends); pixel bounds are clamped to the image; with both, the crop window wins. Pixel
+// bounds are pixels of the scene's resolution (`scene_w` x `scene_h`): under --resolution they
+// keep their share of the image, rounded as a crop window is.
+PixelBounds film_pixel_bounds(const ParameterList& film, int width, int height, int scene_w,
+                              int scene_h, std::vector<std::string>& warnings) {
+    PixelBounds pb{0, 0, width, height};
+    // In single precision, as pbrt-v4 rounds (float(96) * 0.23f, not 96 * 0.23).
+    auto from_fractions = [&](float fx0, float fx1, float fy0, float fy1) {
+        auto at = [](int res, float f) {
+            return int(std::ceil(float(res) * std::clamp(f, 0.f, 1.f)));
+        };
+        pb = {at(width, std::min(fx0, fx1)), at(height, std::min(fy0, fy1)),
+              at(width, std::max(fx0, fx1)), at(height, std::max(fy0, fy1))};
+    };
+    const Param* crop = film.find("cropwindow");
+    const Param* bounds = film.find("pixelbounds");
+    if (bounds) {
+        std::vector<int> b = film.get_ints("pixelbounds");
+        if (b.size() != 4)
+            throw_input_error(bounds->loc,
+                              "film: \"pixelbounds\" needs 4 values (x0 x1 y0 y1), got {}",
+                              b.size());
+        // Corners in either order, as pbrt-v4's Bounds2i takes them.
+        if (b[0] > b[1]) std::swap(b[0], b[1]);
+        if (b[2] > b[3]) std::swap(b[2], b[3]);
+        if (crop) {
+            warnings.push_back(fmt::format(
+                "{}: both \"pixelbounds\" and \"cropwindow\" are given; using the crop window "
+                "(as pbrt-v4)",
+                bounds->loc.to_string()));
+        } else if (width != scene_w || height != scene_h) {
+            // Rounded up, as a crop window's corners are, in integers (exact).
+            auto scale = [](int v, int from, int to) {
+                int64_t c = std::clamp<int64_t>(v, 0, from);
+                return int((c * to + from - 1) / from);
+            };
+            pb = {scale(b[0], scene_w, width), scale(b[2], scene_h, height),
+                  scale(b[1], scene_w, width), scale(b[3], scene_h, height)};
+        } else {
+            pb = {std::max(b[0], 0), std::max(b[2], 0), std::min(b[1], width),
+                  std::min(b[3], height)};
+            if (pb.x0 != b[0] || pb.y0 != b[2] || pb.x1 != b[1] || pb.y1 != b[3])
+                warnings.push_back(fmt::format(
+                    "{}: \"pixelbounds\" [{} {} {} {}] reach past the {}x{} image; clamped",
+                    bounds->loc.to_string(), b[0], b[1], b[2], b[3], width, height));
+        }
+    }
+    if (crop) {
+        std::vector<float> c = film.get_floats("cropwindow");
+        if (c.size() != 4)
+            throw_input_error(
+                crop->loc, "film: \"cropwindow\" needs 4 values (x0 x1 y0 y1), got {}", c.size());
+        for (float v : c)
+            if (!std::isfinite(v))
+                throw_input_error(crop->loc, "film: \"cropwindow\" values must be finite");
+        from_fractions(c[0], c[1], c[2], c[3]);
+    }
+    if (pb.x1 <= pb.x0 || pb.y1 <= pb.y0)
+        throw_input_error((crop ? crop : bounds)->loc,
+                          "film: the {} leaves no pixel of the {}x{} image (pixel bounds [{} {} "
+                          "{} {}])",
+                          crop ? "crop window" : "pixel bounds", width, height, pb.x0, pb.x1, pb.y0,
+                          pb.y1);
+    return pb;
+}
+
 // Everything render_scene makes from the description and the options before the scene is built:
 // made first, so that bad settings are reported before the (long) build.
 struct RenderPlan {
-    int width = 0, height = 0, spp = 0;
+    int width = 0, height = 0, spp = 0;   // the film that is rendered: the crop's size
+    int full_width = 0, full_height = 0;  // the image's
+    PixelBounds crop;
     float max_component = kInfinity, imaging_ratio = 1;
     std::string name, sampler_name;
     uint64_t seed = 0;
@@ -85,8 +161,9 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     const ParameterList& film_params = desc.film.params;
     if (!desc.film.name.empty() && desc.film.name != "rgb" && desc.film.name != "gbuffer")
         throw_input_error(desc.film.loc, "unknown film \"{}\"", desc.film.name);
-    int width = film_params.get_int("xresolution", 1280);
-    int height = film_params.get_int("yresolution", 720);
+    const int scene_width = film_params.get_int("xresolution", 1280);
+    const int scene_height = film_params.get_int("yresolution", 720);
+    int width = scene_width, height = scene_height;
     if (opt.width) width = *opt.width;
     if (opt.height) height = *opt.height;
     if (width <= 0 || height <= 0)
@@ -95,6 +172,9 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
         throw_input_error(desc.film.loc,
                           "resolution {}x{} is too large (at most 2^27 pixels, 65536 a side)",
                           width, height);
+    PixelBounds crop =
+        film_pixel_bounds(film_params, width, height, scene_width, scene_height, plan.warnings);
+    if (opt.whole_image) crop = {0, 0, width, height};
     plan.output_hint = film_params.get_string("filename", "");
     float max_component = film_params.get_float("maxcomponentvalue", kInfinity);
     film_params.get_bool("savefp16", true);
@@ -150,6 +230,7 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                         desc.camera.name.empty() ? "perspective" : desc.camera.name, film_diagonal,
                         desc.base_dir);
     desc.camera.params.check_unused();
+    plan.camera->set_crop(crop.x0, crop.y0, crop.x1 - crop.x0, crop.y1 - crop.y0);
 
     // Integrator: the command line's, else the scene's where we have it, else path.
     std::string scene_integrator = integrator_for_pbrt_name(desc.integrator.name);
@@ -231,10 +312,15 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
             {"scene", opt.scene_id},         {"integrator", name}, {"settings", overrides},
             {"resolution", {width, height}}, {"seed", seed},       {"spp", spp},
             {"sampler", sampler_name},       {"look_at", look_at}};
+        if (crop.x0 != 0 || crop.y0 != 0 || crop.x1 != width || crop.y1 != height)
+            plan.fingerprint["crop"] = {crop.x0, crop.x1, crop.y0, crop.y1};
     }
     plan.sampler = create_sampler(sampler_name, spp, seed);
-    plan.width = width;
-    plan.height = height;
+    plan.full_width = width;
+    plan.full_height = height;
+    plan.crop = crop;
+    plan.width = crop.x1 - crop.x0;
+    plan.height = crop.y1 - crop.y0;
     plan.spp = spp;
     plan.max_component = max_component;
     plan.imaging_ratio = imaging_ratio;
@@ -333,6 +419,17 @@ RenderOutput run_plan(RenderPlan& plan, const Scene& scene, const RenderOptions&
     }
 
     out.image = film.to_image();
+    // A crop is written as the data window of the whole image (as pbrt-v4 writes it).
+    if (plan.width != plan.full_width || plan.height != plan.full_height) {
+        auto place = [&](Image& image) {
+            image.x = plan.crop.x0, image.y = plan.crop.y0;
+            image.full_width = plan.full_width, image.full_height = plan.full_height;
+        };
+        place(out.image);
+        for (auto* images : {&result.aovs, &result.debug_images})
+            for (auto& [image_name, image] : *images)
+                if (image.width == plan.width && image.height == plan.height) place(image);
+    }
     fig.nonfinite_samples = film.nonfinite_samples() + rays.nonfinite_splats;
     if (fig.nonfinite_samples > 0)
         fig.warnings.push_back(fmt::format(

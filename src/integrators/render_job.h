@@ -26,10 +26,13 @@ class Scene;
 namespace ml {
 
 struct RenderOptions {
-    std::string integrator;                  // empty: the scene's (mapped), else "path"
-    std::optional<int> spp;                  // overrides the Sampler's "pixelsamples"
-    std::optional<int> max_depth;            // overrides the integrator's "maxdepth"
-    std::optional<int> width, height;        // override the Film's resolution
+    std::string integrator;            // empty: the scene's (mapped), else "path"
+    std::optional<int> spp;            // overrides the Sampler's "pixelsamples"
+    std::optional<int> max_depth;      // overrides the integrator's "maxdepth"
+    std::optional<int> width, height;  // override the Film's resolution
+    // Renders the whole image even when the Film has a "cropwindow" or "pixelbounds" (the
+    // viewer shows the whole view).
+    bool whole_image = false;
     std::optional<uint64_t> seed;            // overrides the Sampler's "seed" (default 0)
     std::string sampler;                     // empty: the scene's
     int threads = 0;                         // 0: all cores

@@ -2,7 +2,10 @@
 // are RGB radiometric quantities directly: pbrt-v4's photometric normalisation of RGB illuminants
 // divides by the illuminant's luminance only, which cancels in an RGB renderer, so "power" and
 // "illuminance" rescale the given colour exactly as pbrt-v4 does.
+#include <array>
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "lights/create.h"
 #include "lights/lights.h"
@@ -125,17 +128,39 @@ std::unique_ptr<Light> create_projection(const ParameterList& params, const Tran
 
 std::unique_ptr<Light> create_infinite(const ParameterList& params, const Transform& to_world,
                                        const std::string& base_dir, const FileLoc& loc) {
-    if (const Param* portal = params.find("portal"))
-        // pbrt-v4's portal changes the image, not only the sampling: a point sees the map only
-        // through the portal (resampled into the portal's frame), and nothing from its far side.
-        throw_input_error(portal->loc,
-                          "infinite light: \"portal\" is not supported by manylight (pbrt-v4 "
-                          "lights only the directions through the portal; remove it to light "
-                          "every direction)");
+    // pbrt-v4's portal: four world-space corners of a rectangle (not moved by the CTM).
+    std::optional<std::array<Vec3, 4>> portal;
+    if (const Param* p = params.find("portal")) {
+        std::vector<Vec3> c = params.get_point3s("portal");
+        if (c.size() != 4)
+            throw_input_error(p->loc, "infinite light: \"portal\" needs 4 points, got {}",
+                              c.size());
+        // pbrt-v4's test: opposite edges parallel, corners square (to 0.001).
+        Vec3 e01 = normalize(c[1] - c[0]), e12 = normalize(c[2] - c[1]);
+        Vec3 e32 = normalize(c[2] - c[3]), e03 = normalize(c[3] - c[0]);
+        if (std::abs(dot(e01, e32) - 1) > 1e-3f || std::abs(dot(e12, e03) - 1) > 1e-3f ||
+            std::abs(dot(e01, e12)) > 1e-3f || std::abs(dot(e12, e32)) > 1e-3f ||
+            std::abs(dot(e32, e03)) > 1e-3f || std::abs(dot(e03, e01)) > 1e-3f)
+            throw_input_error(p->loc,
+                              "infinite light: the \"portal\" is not a rectangle (its corners "
+                              "go around it in order)");
+        portal = std::array<Vec3, 4>{c[0], c[1], c[2], c[3]};
+    }
     float scale = get_scale(params, loc);
     std::string filename = params.get_string("filename", "");
     bool has_L = params.has("L");
     float E = get_target(params, "illuminance", loc);
+    if (filename.empty() && portal) {
+        // As pbrt-v4: a constant L through a portal is a one-pixel map.
+        Image image(1, 1);
+        image.at(0, 0) = get_color(params, "L", loc);
+        if (E > 0) {
+            float k_e = image_upper_hemisphere_illuminance(image, EnvMapping::EqualArea);
+            if (k_e > 0) scale *= E / k_e;
+        }
+        for (RGB& c : image.pixels) c = clamp_zero(c * scale);
+        return make_portal_infinite_light(image, to_world, *portal);
+    }
     if (filename.empty()) {
         RGB L = get_color(params, "L", loc);
         // A constant L gives illuminance pi L on any surface.
@@ -166,6 +191,15 @@ std::unique_ptr<Light> create_infinite(const ParameterList& params, const Transf
     if (E > 0) {
         float k_e = image_upper_hemisphere_illuminance(image, mapping);
         if (k_e > 0) scale *= E / k_e;
+    }
+    if (portal) {
+        if (mapping != EnvMapping::EqualArea)
+            throw_input_error(floc,
+                              "infinite light \"{}\": a portal needs a square (equal-area) image, "
+                              "as in pbrt-v4; this one is {}x{}",
+                              filename, image.width, image.height);
+        for (RGB& c : image.pixels) c = clamp_zero(c * scale);
+        return make_portal_infinite_light(image, to_world, *portal);
     }
     return make_image_infinite_light(std::move(image), mapping, to_world, scale);
 }

@@ -5,6 +5,10 @@
 // point on it. Paths leaving the light start at a uniform point, area density 1 / total area.
 // With an image (pbrt-v4's "filename"), the radiance at texture coordinates (u, v) is the image's
 // bilinear value at (u, 1 - v), clamped at its edges; sampling stays by area, as pbrt-v4's.
+// On a cut-out shape ("alpha") the emission is masked where the cut-out removes the surface
+// (pbrt-v4's AlphaMasked in L, SampleLi and SampleLe); densities, power and bounds stay the
+// whole mesh's, as pbrt-v4's.
+#include "geometry/alpha_test.h"
 #include "lights/lights.h"
 #include "lights/point_lights.h"
 #include "sampling/distributions.h"
@@ -105,6 +109,9 @@ public:
         if (cos_l == 0 || (!m_two_sided && cos_l < 0)) return std::nullopt;
         if (!st) s.pdf_solid_angle = pmf_tri * d2 / (std::abs(cos_l) * m_mesh->triangle_area(tri));
         s.uv = texture_coords(tri, bary);
+        // A cut-out sends nothing where it is not (pbrt-v4's AlphaMasked); the density stays
+        // over the whole mesh.
+        if (masked(s.p_light, n, s.uv)) return std::nullopt;
         s.L = emission(s.uv);
         s.n_light = n;
         s.prim = uint32_t(tri);
@@ -133,6 +140,7 @@ public:
     }
     RGB radiance(const Vec3& p, const Vec3& n, const Vec2& uv, const Vec3& w) const override {
         if (!m_two_sided && dot(n, w) <= 0) return RGB();
+        if (masked(p, n, uv)) return RGB();
         return emission(uv);
     }
 
@@ -140,6 +148,7 @@ public:
         if (m_area <= 0) return std::nullopt;
         LightLeSample s;
         sample_point(u_pos, &s.ray.o, &s.n_light, &s.p_error, &s.uv, &s.prim);
+        if (masked(s.ray.o, s.n_light, s.uv)) return std::nullopt;
         // Cosine-weighted about the normal; two-sided lights pick a side with half of u_dir.x.
         Vec2 u = u_dir;
         bool back = false;
@@ -179,6 +188,7 @@ public:
             sample_point(shifted_hammersley(uint32_t(i), uint32_t(n), shift), &pl.p, &pl.n,
                          &p_error, &uv, &prim);
             pl.offset = surface_offset(pl.n, p_error);
+            if (masked(pl.p, pl.n, uv)) continue;  // stands for area / n of a cut-out: none here
             pl.intensity = emission(uv) * (m_area / float(n));
             if (pl.intensity.is_black()) continue;
             pl.kind = PointLightKind::Oriented;
@@ -204,10 +214,17 @@ private:
         *uv = texture_coords(tri, b);
         *prim = uint32_t(tri);
     }
+    // Whether the shape's cut-out removes the emission at p (normal n, texture coordinates
+    // uv): pbrt-v4's test, which hashes the point (so a fractional alpha a lets a of the
+    // surface emit, and a ray that hit it, kept with probability a by the ray's own test, sees
+    // its emission with probability a again, as in pbrt-v4).
+    bool masked(const Vec3& p, const Vec3& n, const Vec2& uv) const {
+        return m_mesh->alpha && !alpha_keeps(m_mesh->alpha->eval(p, uv, n), alpha_hash(p));
+    }
     // Texture coordinates at barycentrics b of triangle tri: the mesh's, else pbrt's (0,0),
     // (1,0), (1,1) per triangle (as ray hits have them).
     Vec2 texture_coords(size_t tri, const Barycentrics& b) const {
-        if (m_image.width == 0) return {};
+        if (m_image.width == 0 && !m_mesh->alpha) return {};
         Vec2 t0(0, 0), t1(1, 0), t2(1, 1);
         if (!m_mesh->uv.empty()) {
             const uint32_t* idx = &m_mesh->indices[3 * tri];

@@ -3,6 +3,7 @@
 // conversion build lights through these directly.
 #pragma once
 
+#include <array>
 #include <memory>
 
 #include "core/color.h"
@@ -48,6 +49,13 @@ enum class EnvMapping {
 // Environment map (linear RGB, multiplied by scale) seen through the rotation light_to_world.
 std::unique_ptr<Light> make_image_infinite_light(Image image, EnvMapping mapping,
                                                  const Transform& light_to_world, float scale);
+
+// pbrt-v4's portal light: the square equal-area map `image` (linear, scaled) seen through the
+// rectangle portal[0..3] (world space, in order around it), only from its side
+// cross(portal[3] - portal[0], portal[1] - portal[0]) faces.
+std::unique_ptr<Light> make_portal_infinite_light(const Image& image,
+                                                  const Transform& light_to_world,
+                                                  const std::array<Vec3, 4>& portal);
 
 // Illuminance at a +z-facing (light space) point due to the map's upper hemisphere, by the
 // mapping's pixel solid angles; used by "illuminance" for image lights.

@@ -279,12 +279,6 @@ void SceneBuilder::entity(SceneEntity SceneDesc::*which, const std::string& name
             throw_input_error(loc,
                               "the pbrt-v4 film \"spectral\" is not supported by manylight "
                               "(it renders RGB)");
-        for (const char* crop : {"pixelbounds", "cropwindow"})
-            if (const Param* p = params.find(crop))
-                throw_input_error(p->loc,
-                                  "film: \"{}\" (rendering part of the image) is not "
-                                  "supported by manylight",
-                                  crop);
         // A gbuffer film's frame for its geometric channels: manylight writes RGB only.
         if (name == "gbuffer") params.get_string("coordinatesystem", "camera");
     }
@@ -406,13 +400,15 @@ std::shared_ptr<const AlphaMask> SceneBuilder::shape_alpha(const ParameterList& 
         // As pbrt-v4: a constant alpha of 1 (or more) is no cut-out at all.
         float a = params.get_float("alpha", 1);
         if (a >= 1) return nullptr;
+        // pbrt-v4 makes such an emitter invisible to rays yet emitting in full, lit by light
+        // sampling alone (it turns the light into a delta light, without MIS).
+        if (a <= 0 && m_state.area_light && !m_current_object)
+            throw_input_error(p->loc,
+                              "\"alpha\" 0 on an emitting shape (AreaLightSource at {}), an "
+                              "invisible light, is not supported by manylight",
+                              m_state.area_light->loc.to_string());
         tex = std::make_shared<ConstantFloatTexture>(a);
     }
-    if (m_state.area_light && !m_current_object)
-        throw_input_error(p->loc,
-                          "\"alpha\" on an emitting shape (AreaLightSource at {}) is not "
-                          "supported by manylight",
-                          m_state.area_light->loc.to_string());
     return std::make_shared<TextureAlphaMask>(std::move(tex));
 }
 

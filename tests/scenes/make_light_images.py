@@ -65,6 +65,19 @@ def emit(x, y):
     return (clamp(255 * k * (1 - 0.6 * t)), clamp(255 * k * 0.7), clamp(255 * k * (0.3 + 0.7 * t)))
 
 
+# Portal sky: 32x32 RGB equal-area map: a bluish sky brighter towards the square's top left, a
+# warm sun patch off-centre and a dark band, so that the portal's rectified resampling shows.
+def sky(x, y):
+    u, v = (x + 0.5) / 32, (y + 0.5) / 32
+    r, g, b = 60 + 80 * (1 - u), 90 + 70 * (1 - v), 170 + 60 * (1 - u)
+    if (u - 0.62) ** 2 + (v - 0.4) ** 2 < 0.012:
+        r, g, b = 255, 230, 160
+    if 0.7 < u < 0.78:
+        r, g, b = 0.3 * r, 0.3 * g, 0.3 * b
+    return (clamp(r), clamp(g), clamp(b))
+
+
 write_png("light_goniometric.png", 32, 32, 1, gonio)
 write_png("light_projection.png", 24, 16, 3, slide)
 write_png("light_area_image.png", 16, 16, 3, emit)
+write_png("light_portal_sky.png", 32, 32, 3, sky)

@@ -14,7 +14,7 @@ names=("$@")
   light_goniometric light_projection light_area_image mat_coateddiffuse mat_coatedconductor
   mat_coatedconductor_depth2 mat_interface
   shape_curve mat_hair camera_realistic
-  camera_realistic_star shape_loopsubdiv)
+  camera_realistic_star shape_loopsubdiv film_crop light_alpha light_portal)
 for n in "${names[@]}"; do
   echo "== $n"
   "$pbrt" --quiet --spp 1024 --seed 1 --outfile "$n.exr" "$n.pbrt"
