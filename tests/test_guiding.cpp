@@ -214,10 +214,12 @@ TEST(GuidedPath, ThreadCountDoesNotChangeTheImage) {
         ASSERT_TRUE(one.pixels[i] == four.pixels[i]) << "pixel " << i;
 }
 
-// Disabled: it fails today (guided 0.28 against plain 0.14 at 64 spp, 32x32). At this size no
-// region receives Müller's 12000 sqrt(2^pass) records, so the whole scene shares one quadtree,
-// which cannot point each wall at the lit spot. Enable it once the split threshold suits small
-// images (e.g. scaled by the pixel count) and it passes.
+// Disabled: it fails today (guided 0.275 against plain 0.141 at 64 spp, 32x32). The spatial
+// threshold now scales with the pass's paths (SDTree::refine), and the scene splits into about
+// 90 regions where Müller's 12000 sqrt(2^pass) left it one; the result did not move (0.28 before),
+// and the passes' variance per sample grows as the guide sharpens (about 10 unguided, 18 in the
+// last guided pass): the guided half of the samples brings back less than it should. Enable it
+// once that is found and it passes.
 TEST(GuidedPath, DISABLED_FarLessNoiseThroughAnOpening) {
     // Equal samples: the guided passes together against plain path tracing.
     const std::string scene = opening_scene(32);

@@ -21,6 +21,16 @@ struct GuideVertex {
 };
 constexpr int kMaxGuideVertices = 32;
 
+// Guiding pays where the BSDF scatters widely; a near-specular lobe samples its own narrow cone
+// far better than a guide of the whole sphere can, so the guide's share of samples there is
+// wasted (and its records are few and sharp). Such a lobe is told by its density towards the
+// mirror direction: a microfacet lobe's is 1 / (4 pi alpha^2) there (1.6 at alpha 0.22, the
+// Trowbridge-Reitz alpha of pbrt-v4's roughness 0.05), a diffuse one's at most 1 / pi.
+constexpr float kNearSpecularPdf = 2.f;
+bool near_specular(const Bsdf& bsdf, const Vec3& wo, const Vec3& ns) {
+    return bsdf.pdf_solid_angle(wo, reflect(wo, ns)) >= kNearSpecularPdf;
+}
+
 }  // namespace
 
 RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta, Sampler& sampler,
@@ -52,8 +62,8 @@ RGB continue_path(const Scene& scene, SurfaceInteraction si, int depth, RGB beta
         const SDTree::Region* region = nullptr;
         const DirectionTree* guide = nullptr;
         if (options.guide && bsdf.has_nonspecular() && !(bsdf.flags() & kBxdfSpecular)) {
-            region = options.guide->region(si.p);
-            guide = SDTree::distribution(region);
+            region = options.guide->region(si.p);  // (it records even where it does not guide)
+            if (!near_specular(bsdf, si.wo, si.ns)) guide = SDTree::distribution(region);
         }
         const GuidedBsdf guided(bsdf, guide, options.guide_bsdf_share);
         DirectionPdf direction_pdf;

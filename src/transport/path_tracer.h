@@ -22,8 +22,9 @@ struct PathTraceOptions {
     // pbrt-v3's "all" strategy) instead of one light chosen by the LightSampler: no variance of
     // the light choice, at one shadow ray per light (`path.lightsampler=all`).
     bool all_lights = false;
-    // Path guiding: at a vertex without delta lobes whose region of `guide` has learned a
-    // distribution, the next direction comes from the BSDF with probability guide_bsdf_share,
+    // Path guiding: at a vertex without delta or near-specular lobes whose region of `guide` has
+    // learned a distribution, the next direction comes from the BSDF with probability
+    // guide_bsdf_share,
     // else from the guide (one-sample MIS: the mixture's density is the direction's pdf, for the
     // throughput and for MIS with light samples). With guide_record, every vertex without delta
     // lobes records the radiance its path brought back along its direction into the guide.

@@ -242,7 +242,7 @@ void SDTree::split(uint32_t node, const Bounds3& bounds, int depth, double thres
     split(node, bounds, depth, threshold);
 }
 
-void SDTree::refine(int pass) {
+void SDTree::refine(double paths) {
     // 1. What each region learned becomes its distribution.
     for (auto& r : m_regions) {
         std::vector<double> energies(4 * r->training.nodes());
@@ -252,7 +252,7 @@ void SDTree::refine(int pass) {
         r->distribution = r->training;
     }
     // 2. Regions that received many records split.
-    split(0, m_bounds, 0, kSpatialThreshold * std::sqrt(std::ldexp(1.0, pass)));
+    split(0, m_bounds, 0, kSpatialThreshold * std::sqrt(paths / kReferencePaths));
     // 3. The next pass trains quadtrees shaped by the energy learned.
     for (auto& r : m_regions)
         r->start_training(r->distribution.refined(kEnergyShare, kMaxQuadtreeDepth));

@@ -63,9 +63,14 @@ private:
 class SDTree {
 public:
     // Müller's constants: a region splits once it received more than
-    // kSpatialThreshold * sqrt(2^pass) records; a quadrant splits above kEnergyShare of the
-    // energy, up to kMaxQuadtreeDepth levels.
+    // kSpatialThreshold * sqrt(paths / kReferencePaths) records, `paths` those the pass traced;
+    // a quadrant splits above kEnergyShare of the energy, up to kMaxQuadtreeDepth levels.
+    // Müller's threshold, 12000 sqrt(2^pass), is for passes of 4 * 2^pass samples per pixel at
+    // 1280x720: scaled by the paths of the pass instead, a small image (a test's, a preview)
+    // still splits its scene into regions, each learning from about as many records as the
+    // square root of the pass's paths (at 32x32 and one sample per pixel: about 200).
     static constexpr double kSpatialThreshold = 12000;
+    static constexpr double kReferencePaths = 4.0 * 1280 * 720;
     static constexpr double kEnergyShare = 0.01;
     static constexpr int kMaxQuadtreeDepth = 20;
 
@@ -80,8 +85,8 @@ public:
     // Adds a record: `energy` (incident radiance along w over the density w was sampled with)
     // into the region's training quadtree. Thread-safe, and the sums are exact (fixed-point).
     static void record(const Region* region, const Vec3& w, double energy);
-    // The end of pass `pass` (0, 1, ...): see the header comment.
-    void refine(int pass);
+    // The end of a pass that traced `paths` paths: see the header comment.
+    void refine(double paths);
     size_t regions() const { return m_regions.size(); }
 
 private:

@@ -124,7 +124,7 @@ RenderResult PathIntegrator::render_guided(const RenderContext& ctx) {
         const bool more = !last && ran == n && done < ctx.spp;
         if (more) {
             const double refine_start = ctx.elapsed();
-            tree.refine(k);
+            tree.refine(double(ran) * w * h);
             refine_seconds += ctx.elapsed() - refine_start;
         }
         pass.seconds = ctx.elapsed() - start;

@@ -30,10 +30,11 @@ PathIntegrator::PathIntegrator(const Settings& settings) {
     if (guiding != "on" && guiding != "off") throw UsageError("path: guiding must be on or off");
     m_guiding = guiding == "on";
     const std::string weights = settings.get_string(
-        "guidingpasses", "variance",
-        {"variance, samples, last",
-         "With guiding, how the passes make the image: weighted by the inverse of their "
-         "variance, every sample alike, or the last pass alone."});
+        "guidingpasses", "samples",
+        {"samples, variance, last",
+         "With guiding, how the passes make the image: every sample alike (unbiased), weighted "
+         "by the inverse of their estimated variance (biased low where a pass's fireflies are "
+         "missing from its estimate), or the last pass alone."});
     if (weights == "variance")
         m_pass_weights = PassWeights::Variance;
     else if (weights == "samples")
