@@ -4,6 +4,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/color.h"
@@ -109,6 +110,9 @@ public:
     // point lights' emission is an unbiased estimate of the light's. Lights that cannot be
     // turned into point lights append none.
     virtual void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const {}
+    // Non-empty where this light's point lights do not reproduce it yet: what they miss (the
+    // many-light integrators then refuse the scene rather than render it wrong).
+    virtual std::string point_lights_miss() const { return {}; }
 
     int index = -1;  // position in the scene's light list, set by the scene
 
