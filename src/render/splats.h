@@ -74,7 +74,7 @@ public:
     // Adds a list's splats in list order.
     void add(const std::vector<Splat>& list) {
         for (const Splat& s : list) {
-            const Vec2 r = s.spread ? m_spread.radius() : Vec2();
+            [[maybe_unused]] const Vec2 r = s.spread ? m_spread.radius() : Vec2();
             ML_ASSERT(s.image >= -1 && size_t(s.image + 1) < m_sums.size() && s.p.x >= -r.x &&
                           s.p.y >= -r.y && s.p.x < float(m_width) + r.x &&
                           s.p.y < float(m_height) + r.y,
