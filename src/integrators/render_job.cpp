@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <set>
 
 #include "camera/camera.h"
 #include "core/parallel.h"
@@ -272,13 +273,17 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     settings.check_unused();
     validate(opt.bias_check);
     // Participating media: so far `path`, `lighttracer`, `bdpt` and `pssmlt` (over BDPT's or
-    // path's paths) carry light through them.
+    // path's paths), and the many-light integrators that gather with manylight/gather.h (VPLs
+    // and gather points in media) carry light through them.
     if (has_media(desc)) {
-        if (name != "path" && name != "lighttracer" && name != "bdpt" && name != "pssmlt")
+        static const std::set<std::string> kMedia = {
+            "path", "lighttracer", "bdpt",        "pssmlt",
+            "vpl",  "lightcuts",   "mdlightcuts", "stochasticlightcuts"};
+        if (!kMedia.count(name))
             throw UsageError(fmt::format(
                 "integrator \"{}\" does not render participating media yet (the scene has "
                 "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt, "
-                "lighttracer or pssmlt",
+                "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts or stochasticlightcuts",
                 name));
         if (name != "path")
             for (const auto& m : desc.media)
@@ -287,8 +292,6 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                         "integrator \"{}\" does not carry light emitted by a medium (no light "
                         "path starts in one); render it with --integrator path",
                         name));
-        if (bias_check_enabled(opt.bias_check, name))
-            throw UsageError("--bias-check does not handle participating media yet");
     }
     if (bias_check_enabled(opt.bias_check, name))
         plan.max_depth =

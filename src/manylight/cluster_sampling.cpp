@@ -93,7 +93,9 @@ float ClusterSampler::importance(int32_t i, const ClusterView& view) const {
     if (!d.directional) return d.bounds.importance(view.x, view.n);
     float weight = m_tree->weight(i);
     if (!(weight > 0)) return 0;
-    float receiver = receiver_cos_bound(m_tree->node(i), view.x, view.n, view.two_sided);
+    float receiver = view.n == Vec3()
+                         ? 1.f
+                         : receiver_cos_bound(m_tree->node(i), view.x, view.n, view.two_sided);
     // Never 0 for a node that can give light, even where the product underflows.
     return receiver > 0 ? std::max(weight * receiver, std::numeric_limits<float>::min()) : 0.f;
 }

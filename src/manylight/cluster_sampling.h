@@ -32,7 +32,7 @@ namespace ml {
 
 // Where a cluster is seen from: the shading point, the shading normal facing the viewer, and
 // whether the surface also transmits (both sides of the normal count; only directional lights
-// tell the sides apart).
+// tell the sides apart). A zero normal: a point in a medium, with no receiver cosine.
 struct ClusterView {
     Vec3 x;
     Vec3 n;

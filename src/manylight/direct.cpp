@@ -2,6 +2,7 @@
 
 #include "lights/light.h"
 #include "transport/direct_lighting.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -27,6 +28,7 @@ float SampledDirectLight::pmf(int index) const {
 
 RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampler& sampler) const {
     if (!m_count) return RGB();
+    if (g.sampler) return estimate_through_media(scene, g, sampler);
     const SurfaceInteraction& si = g.si;
     const auto& lights = scene.lights();
     RGB L;
@@ -67,6 +69,75 @@ RGB SampledDirectLight::estimate(const Scene& scene, const GatherPoint& g, Sampl
         } else if (hit.area_light) {
             RGB Le = hit.area_light->radiance(hit.p, hit.ng, hit.uv, hit.wo);
             if (!Le.is_black()) L += f * weighted(hit.area_light, Le, hit.p, hit.ng);
+        }
+    }
+    return g.beta * L / float(m_samples);
+}
+
+RGB SampledDirectLight::estimate_through_media(const Scene& scene, const GatherPoint& g,
+                                               Sampler& sampler) const {
+    const SurfaceInteraction& si = g.si;
+    const auto& lights = scene.lights();
+    // A point in a medium has no surface: its context is the point alone.
+    LightSampleContext ctx =
+        g.in_medium ? LightSampleContext{si.p, Vec3(), Vec3()} : light_context(si);
+    const bool mis = m_mis || (g.bsdf.flags() & kBxdfGlossy);
+    ctx.allow_incomplete_pdf = mis;
+    RGB L;
+    for (int i = 0; i < m_samples; ++i) {
+        const float u_select = sampler.get_1d();
+        const Vec2 u_light = sampler.get_2d();
+        const float uc = sampler.get_1d();
+        const Vec2 u_bsdf = sampler.get_2d();
+        // Light sampling, through the media's transmittance.
+        float chosen = 0;
+        const size_t index = m_choice.sample_discrete(u_select, &chosen);
+        if (chosen > 0) {
+            const Light& light = *lights[index];
+            const auto ls = light.sample_li(ctx, u_light);
+            if (ls && !ls->L.is_black() && ls->pdf_solid_angle > 0) {
+                const RGB f = g.bsdf.eval(si.wo, ls->wi) * abs_dot(ls->wi, si.ns);
+                const RGB tr = f.is_black() ? RGB()
+                                            : transmittance(scene, si.p, si.offset(), ls->p_light,
+                                                            ls->offset(), medium_towards(g, ls->wi),
+                                                            si.time, sampler);
+                if (!tr.is_black()) {
+                    const float light_pdf = chosen * ls->pdf_solid_angle;
+                    const float w =
+                        !mis || is_delta_light(light.type())
+                            ? 1.f
+                            : power_heuristic(light_pdf, g.bsdf.pdf_solid_angle(si.wo, ls->wi));
+                    L += f * ls->L * tr * (w / light_pdf);
+                }
+            }
+        }
+        if (!mis) continue;
+        // BSDF (or phase function) sampling: the first surface past the media's interfaces.
+        const auto bs = g.bsdf.sample(si.wo, uc, u_bsdf);
+        if (!bs || bs->is_specular() || bs->pdf_solid_angle <= 0) continue;
+        const RGB f = bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+        if (f.is_black()) continue;
+        const Ray ray = spawn_ray(si, bs->wi);
+        SurfaceInteraction hit;
+        bool found = false;
+        const RGB tr =
+            transmittance_to_surface(scene, ray, medium_towards(g, bs->wi), sampler, &hit, &found);
+        if (tr.is_black()) continue;
+        LightSampleContext incomplete = ctx;
+        incomplete.allow_incomplete_pdf = true;
+        auto weighted = [&](const Light* light, const RGB& Le, const Vec3& p, const Vec3& n) {
+            const float p_light =
+                pmf(light->index) * light->pdf_li(incomplete, ray.d, p, n, hit.prim_id);
+            return Le * power_heuristic(bs->pdf_solid_angle, p_light);
+        };
+        if (!found) {
+            for (const Light* light : scene.infinite_lights()) {
+                const RGB Le = light->radiance_escaped(ray);
+                if (!Le.is_black()) L += f * tr * weighted(light, Le, Vec3(), Vec3());
+            }
+        } else if (hit.area_light) {
+            const RGB Le = hit.area_light->radiance(hit.p, hit.ng, hit.uv, hit.wo);
+            if (!Le.is_black()) L += f * tr * weighted(hit.area_light, Le, hit.p, hit.ng);
         }
     }
     return g.beta * L / float(m_samples);

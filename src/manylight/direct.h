@@ -31,12 +31,17 @@ public:
     int samples() const { return m_samples; }
     bool mis() const { return m_mis; }
     // Direct radiance at g from the sampled lights, times g.beta. Draws 5 dimensions per sample
-    // from the sampler (none when empty()), whatever happens.
+    // from the sampler (none when empty()), whatever happens, and in a scene with media those of
+    // the transmittance as well.
     RGB estimate(const Scene& scene, const GatherPoint& g, Sampler& sampler) const;
     // Probability of choosing the light at position `index` of the scene's list.
     float pmf(int index) const;
 
 private:
+    // estimate() in a scene with media (g.sampler set): the point may be in a medium, and every
+    // ray to a light takes the media's transmittance.
+    RGB estimate_through_media(const Scene& scene, const GatherPoint& g, Sampler& sampler) const;
+
     Distribution1D m_choice;  // over the scene's lights; delta lights weigh 0
     size_t m_count = 0;       // lights that can be chosen
     int m_samples = 1;

@@ -13,11 +13,24 @@
 
 namespace ml {
 
+class Medium;
+
 struct GatherPoint {
     SurfaceInteraction si;
     Bsdf bsdf;
     RGB beta;  // throughput of the delta chain that led here (1 for a direct hit)
+    // In a scene with participating media: the medium the camera path arrived in, and whether
+    // the point is a scattering inside it rather than on a surface. A point in a medium has only
+    // si.p, si.wo, si.time and a normal along wo; its bsdf is the medium's phase function
+    // (media/phase_bxdf.h), so that f |cos| is the phase function. `sampler` draws the shadow
+    // rays' transmittance (ratio tracking through media that are not homogeneous).
+    const Medium* medium = nullptr;
+    bool in_medium = false;
+    Sampler* sampler = nullptr;
 };
+
+// The medium a ray leaving g towards unit direction wi starts in.
+const Medium* medium_towards(const GatherPoint& g, const Vec3& wi);
 
 // The gather points of a camera path: it follows `ray` through delta surfaces (mirrors, glass)
 // for at most `max_depth` bounces, adding the emission it sees to *L (times throughput), and
@@ -46,12 +59,22 @@ struct PointLightTerms {
 bool point_light_contribution(const PointLightSet& set, const PointLight& pl, const GatherPoint& g,
                               RGB* value, Ray* shadow, PointLightTerms* terms = nullptr);
 
+// In a scene with media (g.sampler set by gather_along): the transmittance between g and `pl`
+// through the media and the interfaces that bound them, zero where anything else blocks it; it
+// stands for the shadow ray of point_light_contribution.
+RGB point_light_transmittance(const Scene& scene, const GatherPoint& g, const PointLight& pl);
+
 // Implementation of gather_along: the next hit along a delta chain, in gather.cpp.
 namespace detail {
 // The surface hit by `ray` and its BSDF (false when the ray escapes or hits no material); adds
 // the emission met to *L times beta.
 bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch, const RGB& beta,
                      RGB* L, GatherPoint* g);
+// The same in a scene with media, the ray starting in *medium: delta tracking finds a scattering
+// in the medium (a gather point in_medium) or lets the ray pass to the surface, through the
+// interfaces that only bound media (*medium follows them); *beta takes the tracking's weights.
+bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
+                           const Medium** medium, RGB* beta, RGB* L, GatherPoint* g);
 // Samples g's BSDF: true with the new ray and throughput when the sample is a delta lobe.
 bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray);
 }  // namespace detail
@@ -61,8 +84,17 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
                  int max_depth, Shade&& shade) {
     RGB L, beta(1.f);
     GatherPoint g;
+    const bool media = scene.has_media();
+    const Medium* medium = scene.camera_medium();
     for (int depth = 0;; ++depth) {
-        if (!detail::next_gather_hit(scene, ray, scratch, beta, &L, &g)) return L;
+        if (media) {
+            if (!detail::next_gather_hit_media(scene, ray, sampler, scratch, &medium, &beta, &L,
+                                               &g))
+                return L;
+            g.sampler = &sampler;
+        } else if (!detail::next_gather_hit(scene, ray, scratch, beta, &L, &g)) {
+            return L;
+        }
         g.beta = beta;
         if (g.bsdf.has_nonspecular()) {
             float u = sampler.get_1d();
@@ -70,6 +102,7 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
         }
         if (depth == max_depth || !(g.bsdf.flags() & kBxdfSpecular)) return L;
         if (!detail::continue_through_delta(g, sampler, &beta, &ray)) return L;
+        if (media) medium = medium_towards(g, ray.d);
     }
 }
 

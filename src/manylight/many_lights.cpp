@@ -34,10 +34,19 @@ RGB visible_point_light(const Scene& scene, const PointLightSet& set,
         if (!(w > 0)) return RGB();
     }
     c = settings.clamped(c, pl.is_vpl);
-    bool blocked = scene.occluded(ray);
+    // Through media, the shadow ray's transmittance (after the clamp, which bounds what the
+    // light would give unshadowed).
+    RGB tr(1.f);
+    bool blocked;
+    if (g.sampler) {
+        tr = point_light_transmittance(scene, g, pl);
+        blocked = tr.is_black();
+    } else {
+        blocked = scene.occluded(ray);
+    }
     if (shadow) *shadow = blocked ? ShadowResult::Occluded : ShadowResult::Visible;
     if (blocked) return RGB();
-    return weigh ? c * w : c;
+    return weigh ? c * tr * w : c * tr;
 }
 
 RGB unshadowed_point_light(const PointLightSet& set, const ManyLightSettings& settings,
@@ -252,6 +261,11 @@ void ManyLightSettings::use_time_limit(const RenderContext& ctx, bool with_tree)
 
 void build_many_lights(const Scene& scene, const ManyLightSettings& settings, PointLightSet* set,
                        SampledDirectLight* direct) {
+    // The other samplers weigh VPLs by unshadowed or occluded pilot paths, blind to media.
+    if (scene.has_media() && settings.lights.vpl_sampler.kind != VplSamplerKind::Standard)
+        throw UsageError(fmt::format(
+            "vpl.sampler={} does not handle participating media yet (use vpl.sampler=standard)",
+            vpl_sampler_name(settings.lights.vpl_sampler.kind)));
     *set = build_point_light_set(scene, settings.lights);
     // A later set (use_set) reports the count the user asked for, as the first did.
     if (settings.first_vpl_request > 0) set->vpl_count_requested = settings.first_vpl_request;

@@ -7,11 +7,13 @@
 #include "lights/light_sampler.h"
 #include "manylight/point_light_set.h"
 #include "materials/material.h"
+#include "media/phase_bxdf.h"
 #include "sampling/distributions.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"
 #include "scene/scene.h"
 #include "transport/direct_lighting.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 namespace {
@@ -167,8 +169,51 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
     int deposited = 0;
     bool after_specular = false;                     // the last bounce was a delta lobe
     int max_bounces = 4 * m_options.max_depth + 16;  // delta and skipped surfaces included
+    // In a scene with media, the medium the ray travels in (the light's on the ray's side).
+    const bool media = m_scene.has_media();
+    const Medium* medium = media ? light->medium_towards(le->ray.d, le->n_light) : nullptr;
+    // Russian roulette after the second bounce, on the throughput relative to the start.
+    auto survives = [&](int bounce, float u_rr) {
+        if (bounce < 1) return true;
+        float q = std::max(0.f, 1.f - beta.max_component() / beta0);
+        if (u_rr < q) return false;
+        beta = beta / (1.f - q);
+        return true;
+    };
     for (int bounce = 0; bounce < max_bounces; ++bounce) {
-        if (!m_scene.intersect(ray, &si)) break;
+        const bool hit = m_scene.intersect(ray, &si);
+        if (medium) {
+            // Delta tracking to a scattering, an absorption or the surface (volume_path.h).
+            const UnitRay u = unit_ray(ray, hit ? si.t : kInfinity);
+            RGB unused;
+            const MediumCollision ev =
+                track_medium(*medium, u.ray, u.tmax, sampler, &beta, &unused, false);
+            if (ev.event == MediumEvent::Absorb || beta.is_black() || !beta.is_finite()) break;
+            if (ev.event == MediumEvent::Scatter) {
+                const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
+                if (after_specular || !m_options.after_specular_only) {
+                    size_t before = chunk.lights.size();
+                    deposit_medium_vpl(p, wo, medium->g(), beta, chunk);
+                    if (chunk.lights.size() > before)
+                        chunk.lights.back().depth = uint8_t(std::min(255, deposited + 1));
+                }
+                if (++deposited >= m_options.max_depth) break;
+                const Vec2 u_dir = sampler.get_2d();
+                const float u_rr = sampler.get_1d();
+                // The phase function is its own density: beta keeps its value.
+                ray = Ray{p, sample_hg_phase(wo, medium->g(), u_dir), kInfinity, time};
+                after_specular = false;
+                if (!survives(bounce, u_rr)) break;
+                continue;
+            }
+        }
+        if (!hit) break;
+        if (media && is_interface(si)) {
+            // A medium's boundary only: the ray goes on in the medium beyond.
+            medium = medium_after(si, ray.d, medium);
+            ray = Ray{si.offset_origin(ray.d), ray.d, kInfinity, time};
+            continue;
+        }
         // Not hit_bsdf: deposit() builds the BSDF again from si, which must keep its unbumped
         // normal; cosines use the BSDF's own normal instead.
         Bsdf bsdf = si.material ? si.material->get_bsdf(si, scratch) : Bsdf();
@@ -192,12 +237,8 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
         after_specular = bs->is_specular();
         beta *= bs->f * (abs_dot(bs->wi, bsdf.frame().n) / bs->pdf_solid_angle);
         ray = spawn_ray(si, bs->wi);
-        // Russian roulette after the second bounce, on the throughput relative to the start.
-        if (bounce >= 1) {
-            float q = std::max(0.f, 1.f - beta.max_component() / beta0);
-            if (u_rr < q) break;
-            beta = beta / (1.f - q);
-        }
+        if (media) medium = medium_after(si, bs->wi, medium);
+        if (!survives(bounce, u_rr)) break;
         if (beta.is_black() || !beta.is_finite()) break;
     }
     return light->index;
@@ -206,6 +247,33 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
 void deposit_vpl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta, GlossyVpls glossy,
                  VplChunk& chunk) {
     deposit_impl(si, bsdf, beta, glossy, chunk);
+}
+
+void deposit_medium_vpl(const Vec3& p, const Vec3& wi, float g, const RGB& beta, VplChunk& chunk) {
+    if (beta.is_black()) return;
+    if (!chunk.arena) chunk.arena = std::make_unique<ScratchBuffer>(256 * 1024);
+    PointLight pl;
+    pl.p = p;  // on no surface: no offset
+    pl.is_vpl = true;
+    const Bsdf phase = phase_bsdf(wi, g, *chunk.arena);
+    const RGB peak(hg_phase_max(g));
+    pl.intensity = beta * peak;
+    if (std::abs(g) < 1e-3f) {
+        pl.kind = PointLightKind::Omni;  // isotropic: the same intensity every way
+    } else {
+        // A lobe about the direction the phase function favours: forward (-wi) for g > 0,
+        // back (wi) for g < 0; each bin bounds it over the directions at least its angle away.
+        pl.kind = PointLightKind::Glossy;
+        pl.n = g > 0 ? -wi : wi;
+        pl.falloff[0] = 0;
+        for (int k = 1; k < kFalloffBins; ++k) {
+            const RGB b = phase.max_value_bound(wi, DirectionCone(-pl.n, -kFalloffCos[k]));
+            pl.falloff[k] = quantize_falloff(b.max_component() / peak.max_component());
+        }
+    }
+    pl.surface = int32_t(chunk.surfaces.size());
+    chunk.surfaces.push_back(VplSurface{phase, wi, beta, false});
+    chunk.lights.push_back(pl);
 }
 
 RGB estimate_max_bsdf_value(const Bsdf& bsdf, const Vec3& wi, bool with_cos, bool diffuse_only) {

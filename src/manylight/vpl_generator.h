@@ -89,6 +89,11 @@ private:
 // appended to chunk (nothing for a surface whose VPL would give no light).
 void deposit_vpl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta, GlossyVpls glossy,
                  VplChunk& chunk);
+// A VPL at a scattering inside a medium of phase asymmetry g, for flux `beta` arriving from wi
+// (unit, pointing back where the light came from): it re-emits through the phase function
+// (media/phase_bxdf.h), as an omni light where it is isotropic, else a glossy one about the
+// direction it favours. Appended to chunk.
+void deposit_medium_vpl(const Vec3& p, const Vec3& wi, float g, const RGB& beta, VplChunk& chunk);
 // Appends the first `count` VPLs of `chunks` (in order) to set, fluxes times `scale`.
 void append_vpls(std::vector<VplChunk>& chunks, size_t count, float scale, PointLightSet& set);
 // Appends `pl` scaled by `scale` to `lights`, with its surface (if it has one, an index into

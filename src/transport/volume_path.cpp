@@ -232,6 +232,24 @@ RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset,
     return RGB();
 }
 
+RGB transmittance_to_surface(const Scene& scene, Ray ray, const Medium* medium, Sampler& sampler,
+                             SurfaceInteraction* hit, bool* found) {
+    RGB tr(1.f);
+    for (int crossing = 0; crossing < 256; ++crossing) {
+        *found = scene.intersect(ray, hit);
+        if (medium) {
+            const UnitRay u = unit_ray(ray, *found ? hit->t : kInfinity);
+            tr *= medium_transmittance(*medium, u.ray, u.tmax, sampler);
+            if (tr.is_black()) return RGB();
+        }
+        if (!*found || !is_interface(*hit)) return tr;
+        medium = medium_after(*hit, ray.d, medium);
+        ray = Ray{hit->offset_origin(ray.d), ray.d, kInfinity, ray.time};
+    }
+    *found = false;
+    return RGB();
+}
+
 RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler,
                      ScratchBuffer& scratch, const LightSampler& light_sampler,
                      const PathTraceOptions& options) {

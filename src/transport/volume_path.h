@@ -66,4 +66,9 @@ bool is_interface(const SurfaceInteraction& si);
 RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset, const Vec3& to,
                   const Vec3& to_offset, const Medium* medium, float time, Sampler& sampler);
 
+// The first surface along `ray` that is not an interface (*found false: the ray escapes), and the
+// transmittance up to it (or to infinity) through the media from `medium` on.
+RGB transmittance_to_surface(const Scene& scene, Ray ray, const Medium* medium, Sampler& sampler,
+                             SurfaceInteraction* hit, bool* found);
+
 }  // namespace ml

@@ -82,6 +82,10 @@ void LightcutsIntegrator::prepare(const Scene& scene) {
 }
 
 RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
+    // Reconstruction cuts take a light as seen where the nearby samples saw it, with no
+    // transmittance.
+    if (ctx.scene.has_media() && m_reconstruct > 1)
+        throw UsageError("lightcuts.reconstruct does not handle participating media (use 0)");
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);

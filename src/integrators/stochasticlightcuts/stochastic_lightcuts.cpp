@@ -78,7 +78,8 @@ RGB StochasticLightcutsIntegrator::shade(const Scene& scene, const GatherPoint& 
     // Lightcuts' cheap bound (the BSDF's bound over every direction): only the order of the
     // splits depends on it, and whether a node can give light at all (zero: left out).
     const RGB m_all = g.bsdf.max_value_bound(wo, DirectionCone::entire_sphere());
-    const ClusterView view{x, face_forward(g.bsdf.frame().n, wo),
+    // A point in a medium scatters every way: no receiver cosine (a zero normal).
+    const ClusterView view{x, g.in_medium ? Vec3() : face_forward(g.bsdf.frame().n, wo),
                            (g.bsdf.flags() & kBxdfTransmission) != 0};
     auto add = [&](int32_t index) {
         RGB b = g.beta * loose_node_bound(m_tree.ref(index), x, m_all);
