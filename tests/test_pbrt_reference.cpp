@@ -20,8 +20,9 @@ namespace {
 
 const std::string kScenes = MANYLIGHT_SOURCE_DIR "/tests/scenes/";
 
-// `integrator`: ours instead of the scene's (the same image by another estimator).
-void expect_matches_pbrt(const std::string& name, const std::string& integrator = "") {
+// `integrator`: ours instead of the scene's (the same image by another estimator); `spp`: instead
+// of the scene's.
+void expect_matches_pbrt(const std::string& name, const std::string& integrator = "", int spp = 0) {
     SCOPED_TRACE(name + (integrator.empty() ? "" : " by " + integrator));
     const std::string ref_path = kScenes + name + ".exr";
     // A scene whose reference has not been rendered yet is skipped, by name (the references
@@ -34,6 +35,7 @@ void expect_matches_pbrt(const std::string& name, const std::string& integrator 
     opt.progress = false;
     opt.seed = 7;
     opt.integrator = integrator;
+    if (spp > 0) opt.spp = spp;
     Image img = render_scene(parse_scene_file(kScenes + name + ".pbrt"), opt).image;
     ASSERT_EQ(img.width, ref.width);
     ASSERT_EQ(img.height, ref.height);
@@ -94,6 +96,17 @@ TEST(PbrtReference, GridMediumByPssmlt) {
     for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(d.mean_rel_diff[c]), 0.02) << "channel " << c;
 }
 TEST(PbrtReference, GridMediumByBdpt) { expect_matches_pbrt("media_grid", "bdpt"); }
+// The many-light integrators in media: gather points where camera rays scatter, lit by the spot
+// light through the fog (single scattering: max depth 1, no VPLs), and VPLs where light paths
+// scatter in the smoke. The fog's blocks near the light converge slowly (points drawn by
+// distance, not towards the light), hence its samples.
+TEST(PbrtReference, HomogeneousFogByLightcuts) {
+    expect_matches_pbrt("media_fog", "lightcuts", 1024);
+}
+TEST(PbrtReference, GridMediumByMdlightcuts) { expect_matches_pbrt("media_grid", "mdlightcuts"); }
+TEST(PbrtReference, GridMediumByStochasticLightcuts) {
+    expect_matches_pbrt("media_grid", "stochasticlightcuts");
+}
 TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
 TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
 TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }

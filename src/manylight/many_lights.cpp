@@ -123,6 +123,7 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
                                     "only); under --time-limit, the most made."});
     // A VPL deposited at a light path's b-th bounce lights paths of b + 1 bounces, so light
     // paths stop where the path tracer's would (maxdepth bounces) unless told otherwise.
+    const bool vpl_depth_given = s.has("vpl.max_depth");
     m.lights.vpl_max_depth =
         s.get_int("vpl.max_depth", std::max(1, m.max_depth - 1),
                   {">= 1",
@@ -141,7 +142,9 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
         m.lights.vpl_glossy = GlossyVpls::Skip;
     else
         throw UsageError("vpl.glossy must be bsdf, diffuse or skip, not " + glossy);
-    m.lights.vpls = m.lights.vpl_count > 0;
+    // At maxdepth 1 (or 0) the path tracer's paths end at their first vertex: no VPL light,
+    // unless vpl.max_depth asks for it.
+    m.lights.vpls = m.lights.vpl_count > 0 && (vpl_depth_given || m.max_depth >= 2);
     read_vpl_sampler(s, &m.lights.vpl_sampler);
     m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count,
                                     {">= 1", "Point lights sampled on the area lights."});
