@@ -12,9 +12,13 @@
 #include <utility>
 
 #include "chi2.h"
+#include "core/rng.h"
+#include "core/scratch.h"
 #include "media/medium.h"
+#include "media/phase_bxdf.h"
 #include "parser_test_helpers.h"
 #include "render_helpers.h"
+#include "sampling/warps.h"
 
 using namespace ml;
 using namespace ml::test;
@@ -81,6 +85,47 @@ TEST(MediaChi2, HenyeyGreensteinSamplesMatchItsDensity) {
     }
     // pbrt-v4's convention: g > 0 scatters forward, away from wo.
     EXPECT_GT(hg_phase(wo, -wo, 0.5f), hg_phase(wo, wo, 0.5f));
+}
+
+TEST(MediaPhase, ThePhaseBxdfIsThePhaseFunctionEitherWayAndBoundsItOverCones) {
+    // The many-light integrators' stand-in for a BSDF at a point in a medium: f |cos| is the
+    // phase function at a gather point (f(arrival, wi) |cos wi|) and at a VPL
+    // (f(w, arrival) |cos w|); its density is the phase function's; and max_value_bound is never
+    // below f |cos| over any cone of directions (Lightcuts' bound).
+    Rng rng(17);
+    auto dir = [&] { return sample_uniform_sphere({rng.next_float(), rng.next_float()}); };
+    for (float g : {-0.8f, -0.2f, 0.f, 0.5f, 0.95f}) {
+        SCOPED_TRACE(g);
+        ScratchBuffer scratch;
+        const Vec3 arrival = dir();
+        const Bsdf phase = phase_bsdf(arrival, g, scratch);
+        const Vec3 n = phase.frame().n;
+        for (int i = 0; i < 200; ++i) {
+            const Vec3 w = dir();
+            const float p = hg_phase(arrival, w, g);
+            EXPECT_NEAR(phase.eval(arrival, w).g * abs_dot(w, n), p, 1e-4f * p + 1e-7f);
+            EXPECT_NEAR(phase.eval(w, arrival).g * abs_dot(w, n), p, 1e-4f * p + 1e-7f);
+            EXPECT_NEAR(phase.pdf_solid_angle(arrival, w), p, 1e-4f * p + 1e-7f);
+        }
+        EXPECT_NEAR(phase.max_value_bound(arrival, DirectionCone::entire_sphere()).g,
+                    hg_phase(arrival, -arrival, g) > hg_phase(arrival, arrival, g)
+                        ? hg_phase(arrival, -arrival, g)
+                        : hg_phase(arrival, arrival, g),
+                    1e-3f);
+        for (int c = 0; c < 100; ++c) {
+            const DirectionCone cone(dir(), 2 * rng.next_float() - 1);
+            const float bound = phase.max_value_bound(arrival, cone).g;
+            const Frame f = Frame::from_z(cone.axis);
+            for (int i = 0; i < 50; ++i) {
+                // A direction in the cone: cos theta uniform in [cos_theta, 1].
+                const float ct = cone.cos_theta + (1 - cone.cos_theta) * rng.next_float();
+                const float st = std::sqrt(std::max(0.f, 1 - ct * ct)),
+                            phi = 2 * kPi * rng.next_float();
+                const Vec3 w = f.to_world(Vec3(st * std::cos(phi), st * std::sin(phi), ct));
+                EXPECT_LE(phase.eval(arrival, w).g * abs_dot(w, n), bound * 1.0001f + 1e-7f);
+            }
+        }
+    }
 }
 
 TEST(Media, AnAbsorbingMediumTransmitsAsBeersLaw) {
@@ -207,14 +252,20 @@ TEST(Media, ManyLightIntegratorsAgreeWithPathThroughAColouredCloud) {
         SCOPED_TRACE(type);
         const std::string scene = coloured_cloud(type);
         const Image path = render_text(scene, options(2048)).image;
-        for (auto [integrator, spp] : {std::pair{"lightcuts", 128}, std::pair{"mdlightcuts", 512},
-                                       std::pair{"stochasticlightcuts", 512}}) {
-            if (std::string(type) != "homogeneous" && std::string(integrator) == "lightcuts")
-                continue;  // the slowest: the homogeneous cloud is enough
-            SCOPED_TRACE(integrator);
+        // Gather points on camera rays: four stratified by transmittance on each stretch through
+        // the homogeneous cloud (the default), or one where delta tracking finds the ray scatter
+        // (gather.medium_points=0, and always in the grid).
+        for (auto [integrator, spp, points] :
+             {std::tuple{"lightcuts", 64, "4"}, std::tuple{"mdlightcuts", 256, "4"},
+              std::tuple{"mdlightcuts", 512, "0"}, std::tuple{"stochasticlightcuts", 512, "4"}}) {
+            if (std::string(type) != "homogeneous" &&
+                (std::string(integrator) == "lightcuts" || std::string(points) == "0"))
+                continue;  // the slowest, and the same as the default: the homogeneous cloud
+            SCOPED_TRACE(std::string(integrator) + ", gather.medium_points=" + points);
             RenderOptions opt = options(spp);
             opt.integrator = integrator;
             opt.set["vpl.count"] = "2000";
+            opt.set["gather.medium_points"] = points;
             const Image other = render_text(scene, opt).image;
             for (int c = 0; c < 3; ++c) {
                 const double a = channel_stats(other, c).mean, b = channel_stats(path, c).mean;
@@ -230,8 +281,9 @@ TEST(Media, LightcutsInACloudStayWithinTheirBoundsOfTheVplSum) {
     // bounds on the phase function (gather points and VPLs in the medium) hold node by node
     // (`lightcuts.verify`), and the images agree.
     const std::string scene = coloured_cloud("homogeneous");
-    RenderOptions opt = options(16);
+    RenderOptions opt = options(8);
     opt.set["vpl.count"] = "2000";
+    opt.set["gather.medium_points"] = "2";
     opt.set["lights.direct"] = "points";  // the area light's points are cut too
     opt.integrator = "vpl";
     const Image exact = render_text(scene, opt).image;

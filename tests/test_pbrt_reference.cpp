@@ -99,9 +99,9 @@ TEST(PbrtReference, GridMediumByBdpt) { expect_matches_pbrt("media_grid", "bdpt"
 // The many-light integrators in media: gather points where camera rays scatter, lit by the spot
 // light through the fog (single scattering: max depth 1, no VPLs), and VPLs where light paths
 // scatter in the smoke. The fog's blocks near the light converge slowly (points drawn by
-// distance, not towards the light), hence its samples.
+// transmittance, not towards the light), hence its samples.
 TEST(PbrtReference, HomogeneousFogByLightcuts) {
-    expect_matches_pbrt("media_fog", "lightcuts", 1024);
+    expect_matches_pbrt("media_fog", "lightcuts", 256);
 }
 TEST(PbrtReference, GridMediumByMdlightcuts) { expect_matches_pbrt("media_grid", "mdlightcuts"); }
 TEST(PbrtReference, GridMediumByStochasticLightcuts) {

@@ -1,5 +1,8 @@
 #include "manylight/gather.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "materials/material.h"
 #include "media/phase_bxdf.h"
 #include "transport/direct_lighting.h"
@@ -29,31 +32,87 @@ RGB point_light_transmittance(const Scene& scene, const GatherPoint& g, const Po
 
 namespace detail {
 
+namespace {
+
+// A gather point at p inside `medium`, reached along the unit ray direction d.
+GatherPoint medium_point(const Vec3& p, const Vec3& d, float time, const Medium* medium,
+                         const RGB& beta, ScratchBuffer& scratch) {
+    GatherPoint g;
+    g.si.p = p;
+    g.si.wo = -d;
+    g.si.ng = g.si.ns = g.si.wo;
+    g.si.time = time;
+    g.bsdf = phase_bsdf(g.si.wo, medium->g(), scratch);
+    g.beta = beta;
+    g.medium = medium;
+    g.in_medium = true;
+    return g;
+}
+
+RGB exp_neg(const RGB& x, float t) {
+    if (!std::isfinite(t)) return RGB();
+    return RGB(std::exp(-x.r * t), std::exp(-x.g * t), std::exp(-x.b * t));
+}
+
+// `count` gather points on the unit ray's stretch [0, tmax) through homogeneous `m` (see
+// next_gather_hit_media), appended to *points; *beta takes the stretch's transmittance. False
+// where the medium's extinction is zero in some channel (delta tracking serves it instead).
+bool stratified_medium_points(const Medium& m, const Medium* medium, const UnitRay& u, int count,
+                              float time, Sampler& sampler, ScratchBuffer& scratch, RGB* beta,
+                              std::vector<GatherPoint>* points) {
+    const std::optional<MajorantSegment> seg = m.majorant(u.ray, u.tmax);
+    if (!seg) return true;  // the ray misses the medium
+    const MediumProperties mp = m.at(u.ray.at(seg->t0));
+    const RGB sigma_t = mp.sigma_a + mp.sigma_s;
+    // Distances drawn with density lambda exp(-lambda s) over the stretch, lambda the smallest
+    // extinction, so that every channel's weight exp(-sigma_t s) / density stays bounded.
+    const float lambda = std::min({sigma_t.r, sigma_t.g, sigma_t.b});
+    if (!(lambda > 0)) return false;
+    const float len = seg->t1 - seg->t0;
+    const float mass = std::isfinite(len) ? -std::expm1(-lambda * len) : 1.f;
+    for (int k = 0; k < count; ++k) {
+        const float uk = (float(k) + sampler.get_1d()) / float(count);
+        const float s = std::min(-std::log1p(-uk * mass) / lambda, len);
+        const float pdf = lambda * std::exp(-lambda * s) / mass;
+        if (!(pdf > 0) || mp.sigma_s.is_black()) continue;
+        const RGB w = exp_neg(sigma_t, s) * mp.sigma_s / (float(count) * pdf);
+        points->push_back(
+            medium_point(u.ray.at(seg->t0 + s), u.ray.d, time, medium, *beta * w, scratch));
+    }
+    *beta *= exp_neg(sigma_t, len);
+    return true;
+}
+
+}  // namespace
+
 bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
-                           const Medium** medium, RGB* beta, RGB* L, GatherPoint* g) {
+                           int medium_points, const Medium** medium, RGB* beta, RGB* L,
+                           GatherPoint* g, std::vector<GatherPoint>* points) {
     // Interfaces crossed in a row; a scene of nested boundaries crosses a few.
     for (int crossing = 0; crossing < 256; ++crossing) {
         SurfaceInteraction si;
         const bool hit = scene.intersect(ray, &si);
         if (*medium) {
             const UnitRay u = unit_ray(ray, hit ? si.t : kInfinity);
-            // Emission inside media is refused by the many-light integrators (no VPL carries it).
-            RGB unused;
-            const MediumCollision ev =
-                track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
-            if (ev.event == MediumEvent::Absorb || beta->is_black() || !beta->is_finite())
-                return false;
-            if (ev.event == MediumEvent::Scatter) {
-                *g = GatherPoint();
-                g->si.p = u.ray.at(ev.t);
-                g->si.wo = -u.ray.d;
-                g->si.ng = g->si.ns = g->si.wo;
-                g->si.time = ray.time;
-                g->bsdf = phase_bsdf(g->si.wo, (*medium)->g(), scratch);
-                g->medium = *medium;
-                g->in_medium = true;
-                return true;
+            const bool stratified =
+                medium_points > 0 && (*medium)->homogeneous() &&
+                stratified_medium_points(**medium, *medium, u, medium_points, ray.time, sampler,
+                                         scratch, beta, points);
+            if (!stratified) {
+                // Emission inside media is refused by the many-light integrators (no VPL
+                // carries it).
+                RGB unused;
+                const MediumCollision ev =
+                    track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
+                if (ev.event == MediumEvent::Absorb) return false;
+                if (ev.event == MediumEvent::Scatter) {
+                    if (beta->is_black() || !beta->is_finite()) return false;
+                    points->push_back(
+                        medium_point(u.ray.at(ev.t), u.ray.d, ray.time, *medium, *beta, scratch));
+                    return false;
+                }
             }
+            if (beta->is_black() || !beta->is_finite()) return false;
         }
         // Only the camera ray and delta chains get here: emission counts whole.
         *L += *beta * emission_along(scene, ray, hit ? &si : nullptr, true, 0.f, {}, nullptr);

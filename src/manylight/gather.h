@@ -4,6 +4,8 @@
 #pragma once
 
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "core/scratch.h"
 #include "lights/point_lights.h"
@@ -41,6 +43,16 @@ const Medium* medium_towards(const GatherPoint& g, const Vec3& wi);
 // gathered at and also continued through: its BSDF is sampled, and a delta sample carries the
 // path on (weighted by f / pdf, which counts the lobe's choice), while a non-delta one ends it,
 // since the gather has that part. Returns the radiance along `ray`.
+// How a camera path gathers: `max_depth` delta bounces at most; in homogeneous media,
+// `medium_points` gather points on each stretch of a ray through them (0: one where delta
+// tracking finds the ray scatter, the ray ending there; see detail::next_gather_hit_media).
+struct GatherOptions {
+    int max_depth = 5;
+    int medium_points = 0;
+};
+template <typename Shade>
+RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
+                 const GatherOptions& options, Shade&& shade);
 template <typename Shade>
 RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
                  int max_depth, Shade&& shade);
@@ -64,33 +76,54 @@ bool point_light_contribution(const PointLightSet& set, const PointLight& pl, co
 // stands for the shadow ray of point_light_contribution.
 RGB point_light_transmittance(const Scene& scene, const GatherPoint& g, const PointLight& pl);
 
+template <typename Shade>
+RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
+                 int max_depth, Shade&& shade) {
+    return gather_along(scene, ray, sampler, scratch, GatherOptions{max_depth, 0},
+                        std::forward<Shade>(shade));
+}
+
 // Implementation of gather_along: the next hit along a delta chain, in gather.cpp.
 namespace detail {
 // The surface hit by `ray` and its BSDF (false when the ray escapes or hits no material); adds
 // the emission met to *L times beta.
 bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch, const RGB& beta,
                      RGB* L, GatherPoint* g);
-// The same in a scene with media, the ray starting in *medium: delta tracking finds a scattering
-// in the medium (a gather point in_medium) or lets the ray pass to the surface, through the
-// interfaces that only bound media (*medium follows them); *beta takes the tracking's weights.
+// The same in a scene with media, the ray starting in *medium, through the interfaces that only
+// bound media (*medium follows them). In a homogeneous medium with `medium_points` > 0, that many
+// gather points in_medium are appended to *points on each stretch of the ray in it, at distances
+// drawn stratified from the transmittance (each weighted by transmittance times sigma_s over
+// its density and their count), and the ray goes on to the surface weighted by the stretch's
+// transmittance. Elsewhere delta tracking finds one scattering (appended to *points, the ray
+// ending there) or lets the ray pass, *beta taking its weights. Returns the surface's gather
+// point as next_gather_hit does.
 bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
-                           const Medium** medium, RGB* beta, RGB* L, GatherPoint* g);
+                           int medium_points, const Medium** medium, RGB* beta, RGB* L,
+                           GatherPoint* g, std::vector<GatherPoint>* points);
 // Samples g's BSDF: true with the new ray and throughput when the sample is a delta lobe.
 bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray);
 }  // namespace detail
 
 template <typename Shade>
 RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
-                 int max_depth, Shade&& shade) {
+                 const GatherOptions& options, Shade&& shade) {
     RGB L, beta(1.f);
     GatherPoint g;
     const bool media = scene.has_media();
     const Medium* medium = scene.camera_medium();
+    std::vector<GatherPoint> points;  // in media only
     for (int depth = 0;; ++depth) {
         if (media) {
-            if (!detail::next_gather_hit_media(scene, ray, sampler, scratch, &medium, &beta, &L,
-                                               &g))
-                return L;
+            points.clear();
+            const bool surface =
+                detail::next_gather_hit_media(scene, ray, sampler, scratch, options.medium_points,
+                                              &medium, &beta, &L, &g, &points);
+            for (GatherPoint& p : points) {
+                p.sampler = &sampler;
+                float u = sampler.get_1d();
+                L += shade(p, u);
+            }
+            if (!surface) return L;
             g.sampler = &sampler;
         } else if (!detail::next_gather_hit(scene, ray, scratch, beta, &L, &g)) {
             return L;
@@ -100,7 +133,7 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
             float u = sampler.get_1d();
             L += shade(g, u);
         }
-        if (depth == max_depth || !(g.bsdf.flags() & kBxdfSpecular)) return L;
+        if (depth == options.max_depth || !(g.bsdf.flags() & kBxdfSpecular)) return L;
         if (!detail::continue_through_delta(g, sampler, &beta, &ray)) return L;
         if (media) medium = medium_towards(g, ray.d);
     }

@@ -23,6 +23,12 @@ struct ManyLightSettings {
     PointLightOptions lights;
     float clamp = 0;    // > 0: no VPL contributes more than this radiance (per channel)
     int max_depth = 5;  // delta bounces followed from the camera before gathering
+    // gather.medium_points: gather points on each stretch of a camera ray through a homogeneous
+    // medium (0: one, where delta tracking finds the ray scatter; manylight/gather.h). 4, the
+    // default, measured best on fog and a coloured cloud (bench/RESULTS.md, "Participating
+    // media").
+    int medium_points = 4;
+    GatherOptions gather() const { return {max_depth, medium_points}; }
     // lights.direct=sample: area and infinite lights by next-event estimation
     // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
     int direct_samples = 4;

@@ -169,7 +169,7 @@ void LightcutsIntegrator::before_pixels(const RenderContext& ctx) {
         float weight, camera_weight;
         Ray ray = pixel_sample_ray(ctx, pixel, sampler, &weight, &camera_weight);
         if (camera_weight == 0) return RGB();
-        RGB L = gather_along(ctx.scene, ray, sampler, st.scratch, m_settings.max_depth,
+        RGB L = gather_along(ctx.scene, ray, sampler, st.scratch, m_settings.gather(),
                              [&](const GatherPoint& g, float u) {
                                  int cut_size = 0;
                                  RGB direct = m_direct.estimate(ctx.scene, g, sampler);
@@ -209,7 +209,7 @@ RGB LightcutsIntegrator::li_sample(const Ray& ray, const Scene& scene, Sampler& 
     size_t i = size_t(pixel.y) * m_width + pixel.x;
     bool first = true;
     return gather_along(
-        scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float u) {
+        scene, ray, sampler, scratch, m_settings.gather(), [&](const GatherPoint& g, float u) {
             int cut_size = 0;
             RGB direct = m_direct.estimate(scene, g, sampler);
             const bool at_first = first;

@@ -205,7 +205,7 @@ MdLightcutsIntegrator::PassEstimate MdLightcutsIntegrator::estimate_pass(
             continue;
         }
         size_t first = ts.points.size();
-        RGB L = gather_along(scene, ray, sampler, ts.scratch, m_settings.max_depth,
+        RGB L = gather_along(scene, ray, sampler, ts.scratch, m_settings.gather(),
                              [&](const GatherPoint& g, float u) {
                                  // `a` holds the raw filter weight (times the camera ray's)
                                  // until normalised below.

@@ -51,7 +51,7 @@ RenderResult StochasticLightcutsIntegrator::render(const RenderContext& ctx) {
 
 RGB StochasticLightcutsIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler,
                                       ScratchBuffer& scratch, Point2i) const {
-    return gather_along(scene, ray, sampler, scratch, m_settings.max_depth,
+    return gather_along(scene, ray, sampler, scratch, m_settings.gather(),
                         [&](const GatherPoint& g, float) {
                             int cut_size = 0;
                             RGB L = m_direct.estimate(scene, g, sampler);

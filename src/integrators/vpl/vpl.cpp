@@ -38,7 +38,7 @@ RenderResult VplIntegrator::render(const RenderContext& ctx) {
 RGB VplIntegrator::li(const Ray& ray, const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
                       Point2i pixel) const {
     return gather_along(
-        scene, ray, sampler, scratch, m_settings.max_depth, [&](const GatherPoint& g, float) {
+        scene, ray, sampler, scratch, m_settings.gather(), [&](const GatherPoint& g, float) {
             RGB L = m_direct.estimate(scene, g, sampler);
             for (size_t i = 0; i < m_set.lights.size(); ++i) {
                 RGB c = visible_point_light(scene, m_set, m_settings, m_set.lights[i], g);
