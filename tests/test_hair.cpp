@@ -176,6 +176,8 @@ TEST(HairBsdf, LightcutsBoundsHoldOnHair) {
         opt.seed = 3;
         opt.progress = false;
         opt.set["vpl.count"] = "2000";
+        // The scene's maxdepth is 1, where no VPLs are made unless asked for.
+        opt.set["vpl.max_depth"] = "1";
         opt.set["vpl.glossy"] = glossy;
         opt.set["vpl.clamp"] = "0";
         opt.set["lightcuts.verify"] = "true";

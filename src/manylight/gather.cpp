@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "manylight/phase_bxdf.h"
 #include "materials/material.h"
-#include "media/phase_bxdf.h"
 #include "transport/direct_lighting.h"
 #include "transport/volume_path.h"
 

@@ -24,7 +24,7 @@ struct GatherPoint {
     // In a scene with participating media: the medium the camera path arrived in, and whether
     // the point is a scattering inside it rather than on a surface. A point in a medium has only
     // si.p, si.wo, si.time and a normal along wo; its bsdf is the medium's phase function
-    // (media/phase_bxdf.h), so that f |cos| is the phase function. `sampler` draws the shadow
+    // (manylight/phase_bxdf.h), so that f |cos| is the phase function. `sampler` draws the shadow
     // rays' transmittance (ratio tracking through media that are not homogeneous).
     const Medium* medium = nullptr;
     bool in_medium = false;

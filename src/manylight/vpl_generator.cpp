@@ -5,9 +5,9 @@
 
 #include "core/parallel.h"
 #include "lights/light_sampler.h"
+#include "manylight/phase_bxdf.h"
 #include "manylight/point_light_set.h"
 #include "materials/material.h"
-#include "media/phase_bxdf.h"
 #include "sampling/distributions.h"
 #include "sampling/sampler.h"
 #include "sampling/warps.h"

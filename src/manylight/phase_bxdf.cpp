@@ -1,4 +1,4 @@
-#include "media/phase_bxdf.h"
+#include "manylight/phase_bxdf.h"
 
 #include <algorithm>
 #include <cmath>
