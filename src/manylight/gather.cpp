@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lights/light.h"
 #include "manylight/phase_bxdf.h"
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
@@ -28,6 +29,23 @@ RGB point_light_transmittance(const Scene& scene, const GatherPoint& g, const Po
     const Vec3 far = si.p + wi * (2 * std::max(radius, 1.f) + length(si.p - centre));
     return transmittance(scene, si.p, si.offset(), far, Vec3(), medium_towards(g, wi), si.time,
                          *g.sampler);
+}
+
+std::vector<EquiangularTarget> medium_gather_targets(const Scene& scene) {
+    std::vector<EquiangularTarget> targets;
+    if (!scene.has_media()) return targets;
+    double total = 0;
+    for (const auto& light : scene.lights()) {
+        if (light->type() != LightType::DeltaPosition) continue;
+        const std::optional<Vec3> p = light_position(*light);
+        const float power = light->power().luminance();
+        if (!p || !(power > 0)) continue;
+        targets.push_back({*p, power});
+        total += power;
+        if (targets.size() > 64) return {};
+    }
+    for (EquiangularTarget& t : targets) t.pmf = float(t.pmf / total);
+    return targets;
 }
 
 namespace detail {
@@ -58,7 +76,8 @@ RGB exp_neg(const RGB& x, float t) {
 // next_gather_hit_media), appended to *points; *beta takes the stretch's transmittance. False
 // where the medium's extinction is zero in some channel (delta tracking serves it instead).
 bool stratified_medium_points(const Medium& m, const Medium* medium, const UnitRay& u, int count,
-                              float time, Sampler& sampler, ScratchBuffer& scratch, RGB* beta,
+                              const std::vector<EquiangularTarget>* toward, float time,
+                              Sampler& sampler, ScratchBuffer& scratch, RGB* beta,
                               std::vector<GatherPoint>* points) {
     const std::optional<MajorantSegment> seg = m.majorant(u.ray, u.tmax);
     if (!seg) return true;  // the ray misses the medium
@@ -70,14 +89,38 @@ bool stratified_medium_points(const Medium& m, const Medium* medium, const UnitR
     if (!(lambda > 0)) return false;
     const float len = seg->t1 - seg->t0;
     const float mass = std::isfinite(len) ? -std::expm1(-lambda * len) : 1.f;
-    for (int k = 0; k < count; ++k) {
-        const float uk = (float(k) + sampler.get_1d()) / float(count);
-        const float s = std::min(-std::log1p(-uk * mass) / lambda, len);
-        const float pdf = lambda * std::exp(-lambda * s) / mass;
-        if (!(pdf > 0) || mp.sigma_s.is_black()) continue;
-        const RGB w = exp_neg(sigma_t, s) * mp.sigma_s / (float(count) * pdf);
+    // Equiangular sampling towards the targets, on stretches that start at the ray's origin.
+    thread_local std::vector<Equiangular> eq;
+    eq.clear();
+    if (toward && !toward->empty() && seg->t0 == 0)
+        for (const EquiangularTarget& t : *toward) eq.emplace_back(u.ray, len, t.p);
+    // The density of the stretch's points at s: all strategies together (balance heuristic).
+    auto density = [&](float s) {
+        float d = float(count) * lambda * std::exp(-lambda * s) / mass;
+        for (size_t j = 0; j < eq.size(); ++j)
+            if (eq[j].valid) d += (*toward)[j].pmf * eq[j].pdf_length(s);
+        return d;
+    };
+    auto add = [&](float s) {
+        const float pdf = density(s);
+        if (!(pdf > 0) || !(s < len) || mp.sigma_s.is_black()) return;
+        const RGB w = exp_neg(sigma_t, s) * mp.sigma_s / pdf;
         points->push_back(
             medium_point(u.ray.at(seg->t0 + s), u.ray.d, time, medium, *beta * w, scratch));
+    };
+    for (int k = 0; k < count; ++k) {
+        const float uk = (float(k) + sampler.get_1d()) / float(count);
+        add(std::min(-std::log1p(-uk * mass) / lambda, len));
+    }
+    if (!eq.empty()) {
+        const float u_choose = sampler.get_1d(), u_distance = sampler.get_1d();
+        float sum = 0;
+        size_t j = 0;
+        for (; j + 1 < eq.size(); ++j) {
+            sum += (*toward)[j].pmf;
+            if (u_choose < sum) break;
+        }
+        if (eq[j].valid) add(eq[j].sample(u_distance));
     }
     *beta *= exp_neg(sigma_t, len);
     return true;
@@ -86,7 +129,7 @@ bool stratified_medium_points(const Medium& m, const Medium* medium, const UnitR
 }  // namespace
 
 bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
-                           int medium_points, const Medium** medium, RGB* beta, RGB* L,
+                           const GatherOptions& options, const Medium** medium, RGB* beta, RGB* L,
                            GatherPoint* g, std::vector<GatherPoint>* points) {
     // Interfaces crossed in a row; a scene of nested boundaries crosses a few.
     for (int crossing = 0; crossing < 256; ++crossing) {
@@ -95,9 +138,9 @@ bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, Scratc
         if (*medium) {
             const UnitRay u = unit_ray(ray, hit ? si.t : kInfinity);
             const bool stratified =
-                medium_points > 0 && (*medium)->homogeneous() &&
-                stratified_medium_points(**medium, *medium, u, medium_points, ray.time, sampler,
-                                         scratch, beta, points);
+                options.medium_points > 0 && (*medium)->homogeneous() &&
+                stratified_medium_points(**medium, *medium, u, options.medium_points,
+                                         options.toward, ray.time, sampler, scratch, beta, points);
             if (!stratified) {
                 // Emission inside media is refused by the many-light integrators (no VPL
                 // carries it).

@@ -46,10 +46,24 @@ const Medium* medium_towards(const GatherPoint& g, const Vec3& wi);
 // How a camera path gathers: `max_depth` delta bounces at most; in homogeneous media,
 // `medium_points` gather points on each stretch of a ray through them (0: one where delta
 // tracking finds the ray scatter, the ray ending there; see detail::next_gather_hit_media).
+// A light at a point that gather points in homogeneous media are also drawn towards,
+// equiangularly (see medium_gather_targets), with the probability of choosing it.
+struct EquiangularTarget {
+    Vec3 p;
+    float pmf = 0;
+};
 struct GatherOptions {
     int max_depth = 5;
     int medium_points = 0;
+    // Not null and not empty (with medium_points > 0): each stretch through a homogeneous medium
+    // also gets one gather point drawn equiangularly towards a target chosen by its pmf, every
+    // point of the stretch weighted by the balance heuristic over both strategies.
+    const std::vector<EquiangularTarget>* toward = nullptr;
 };
+// The scene's lights at a point (point, spot, goniometric, projection), chosen in proportion to
+// power, as targets for gather points in media; none in a scene without media or with more than
+// 64 of them (every gather point's weight sums the densities over all targets).
+std::vector<EquiangularTarget> medium_gather_targets(const Scene& scene);
 template <typename Shade>
 RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
                  const GatherOptions& options, Shade&& shade);
@@ -79,7 +93,7 @@ RGB point_light_transmittance(const Scene& scene, const GatherPoint& g, const Po
 template <typename Shade>
 RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
                  int max_depth, Shade&& shade) {
-    return gather_along(scene, ray, sampler, scratch, GatherOptions{max_depth, 0},
+    return gather_along(scene, ray, sampler, scratch, GatherOptions{max_depth, 0, nullptr},
                         std::forward<Shade>(shade));
 }
 
@@ -98,7 +112,7 @@ bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch,
 // ending there) or lets the ray pass, *beta taking its weights. Returns the surface's gather
 // point as next_gather_hit does.
 bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
-                           int medium_points, const Medium** medium, RGB* beta, RGB* L,
+                           const GatherOptions& options, const Medium** medium, RGB* beta, RGB* L,
                            GatherPoint* g, std::vector<GatherPoint>* points);
 // Samples g's BSDF: true with the new ray and throughput when the sample is a delta lobe.
 bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray);
@@ -115,9 +129,8 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
     for (int depth = 0;; ++depth) {
         if (media) {
             points.clear();
-            const bool surface =
-                detail::next_gather_hit_media(scene, ray, sampler, scratch, options.medium_points,
-                                              &medium, &beta, &L, &g, &points);
+            const bool surface = detail::next_gather_hit_media(
+                scene, ray, sampler, scratch, options, &medium, &beta, &L, &g, &points);
             for (GatherPoint& p : points) {
                 p.sampler = &sampler;
                 float u = sampler.get_1d();

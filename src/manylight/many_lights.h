@@ -28,7 +28,12 @@ struct ManyLightSettings {
     // default, measured best on fog and a coloured cloud (bench/RESULTS.md, "Participating
     // media").
     int medium_points = 4;
-    GatherOptions gather() const { return {max_depth, medium_points}; }
+    // The lights gather points in media are also drawn towards (medium_gather_targets): set by
+    // use_render_seed's caller through use_scene.
+    std::vector<EquiangularTarget> medium_targets;
+    GatherOptions gather() const { return {max_depth, medium_points, &medium_targets}; }
+    // The render's scene: the targets above.
+    void use_scene(const Scene& scene) { medium_targets = medium_gather_targets(scene); }
     // lights.direct=sample: area and infinite lights by next-event estimation
     // (manylight/direct.h) with lights.direct_samples samples per gather point, not as points.
     int direct_samples = 4;

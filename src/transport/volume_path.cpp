@@ -72,30 +72,6 @@ RGB sample_direct(const Scene& scene, const LightSampleContext& ctx, const Vec3&
     return f * ls->L * tr * (w / light_pdf);
 }
 
-// Equiangular sampling (Kulla and Fajardo 2012) of the distance along a unit ray, over
-// [0, tmax), towards a point light at c: the density falls as 1 / r^2 from c, as the light's
-// contribution does, so that scattering next to a light is found at the rate it matters.
-struct Equiangular {
-    float delta = 0;  // the ray's parameter closest to c
-    float dist = 0;   // c's distance from the ray's line
-    float theta0 = 0, theta1 = 0;
-    bool valid = false;
-    Equiangular(const Ray& ray, float tmax, const Vec3& c) {
-        delta = dot(c - ray.o, ray.d);
-        dist = length(c - ray.at(delta));
-        if (!(dist > 1e-6f)) return;
-        theta0 = std::atan2(-delta, dist);
-        theta1 = tmax < kInfinity ? std::atan2(tmax - delta, dist) : 0.5f * kPi;
-        valid = theta1 > theta0;
-    }
-    float sample(float u) const { return delta + dist * std::tan(lerp(u, theta0, theta1)); }
-    // Over unit length.
-    float pdf_length(float t) const {
-        const float x = t - delta;
-        return dist / ((theta1 - theta0) * (dist * dist + x * x));
-    }
-};
-
 // Where a homogeneous medium's extinction is the same in every channel, delta tracking draws a
 // scattering point at t with density sigma_t exp(-sigma_t t) times the share of scattering in
 // the throughput-weighted extinction (`track`'s choice; no null collisions come first): the
@@ -120,15 +96,6 @@ struct GreyTracking {
 };
 
 float mis_square(float a, float b) { return a * a / (a * a + b * b); }
-
-// The position of a light at a point (point, spot, goniometric and projection lights): where
-// its emitted rays start, the same for every sample.
-std::optional<Vec3> light_position(const Light& light) {
-    const auto le = light.sample_le(Vec2(0.5f, 0.5f), Vec2(0.5f, 0.5f));
-    if (le) return le->ray.o;
-    if (const auto b = light.bounds()) return (b->box.lo + b->box.hi) * 0.5f;
-    return std::nullopt;
-}
 
 }  // namespace
 
@@ -167,6 +134,15 @@ RGB equiangular_single_scattering(const Scene& scene, const Medium& medium, cons
 }
 
 }  // namespace
+
+// The position of a light at a point (point, spot, goniometric and projection lights): where
+// its emitted rays start, the same for every sample.
+std::optional<Vec3> light_position(const Light& light) {
+    const auto le = light.sample_le(Vec2(0.5f, 0.5f), Vec2(0.5f, 0.5f));
+    if (le) return le->ray.o;
+    if (const auto b = light.bounds()) return (b->box.lo + b->box.hi) * 0.5f;
+    return std::nullopt;
+}
 
 UnitRay unit_ray(const Ray& r, float tmax) {
     const float len = length(r.d);

@@ -15,6 +15,9 @@
 // Every random number comes from the sampler, one dimension per draw.
 #pragma once
 
+#include <cmath>
+#include <optional>
+
 #include "core/scratch.h"
 #include "lights/light_sampler.h"
 #include "media/medium.h"
@@ -65,6 +68,34 @@ bool is_interface(const SurfaceInteraction& si);
 // (moved by to_offset), starting in `medium`: through interface surfaces, zero at any other.
 RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset, const Vec3& to,
                   const Vec3& to_offset, const Medium* medium, float time, Sampler& sampler);
+
+// Equiangular sampling (Kulla and Fajardo 2012) of the distance along a unit ray, over
+// [0, tmax), towards a point light at c: the density falls as 1 / r^2 from c, as the light's
+// contribution does, so that scattering next to a light is found at the rate it matters.
+struct Equiangular {
+    float delta = 0;  // the ray's parameter closest to c
+    float dist = 0;   // c's distance from the ray's line
+    float theta0 = 0, theta1 = 0;
+    bool valid = false;
+    Equiangular(const Ray& ray, float tmax, const Vec3& c) {
+        delta = dot(c - ray.o, ray.d);
+        dist = length(c - ray.at(delta));
+        if (!(dist > 1e-6f)) return;
+        theta0 = std::atan2(-delta, dist);
+        theta1 = tmax < kInfinity ? std::atan2(tmax - delta, dist) : 0.5f * kPi;
+        valid = theta1 > theta0;
+    }
+    float sample(float u) const { return delta + dist * std::tan(lerp(u, theta0, theta1)); }
+    // Over unit length.
+    float pdf_length(float t) const {
+        const float x = t - delta;
+        return dist / ((theta1 - theta0) * (dist * dist + x * x));
+    }
+};
+
+// The position of a light at a point (point, spot, goniometric and projection lights): where
+// its emitted rays start, the same for every sample; nullopt for other lights.
+std::optional<Vec3> light_position(const Light& light);
 
 // The first surface along `ray` that is not an interface (*found false: the ray escapes), and the
 // transmittance up to it (or to infinity) through the media from `medium` on.

@@ -87,6 +87,7 @@ RenderResult LightcutsIntegrator::render(const RenderContext& ctx) {
     if (ctx.scene.has_media() && m_reconstruct > 1)
         throw UsageError("lightcuts.reconstruct does not handle participating media (use 0)");
     m_settings.use_render_seed(ctx.seed);
+    m_settings.use_scene(ctx.scene);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
     check_vpl_memory(m_settings, true, name());

@@ -75,6 +75,7 @@ void MdLightcutsIntegrator::prepare(const Scene& scene) {
 
 RenderResult MdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
+    m_settings.use_scene(ctx.scene);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
     // A resumed render takes the first run's plan (many_lights.h: read_pass_plan) and figures.

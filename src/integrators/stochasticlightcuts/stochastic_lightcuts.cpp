@@ -29,6 +29,7 @@ void StochasticLightcutsIntegrator::prepare(const Scene& scene) {
 
 RenderResult StochasticLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
+    m_settings.use_scene(ctx.scene);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);
     m_cut_sum = 0;

@@ -17,6 +17,7 @@ void VplIntegrator::prepare(const Scene& scene) {
 
 RenderResult VplIntegrator::render(const RenderContext& ctx) {
     m_settings.use_render_seed(ctx.seed);
+    m_settings.use_scene(ctx.scene);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, false);
     m_lit.reset();
