@@ -125,7 +125,9 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
     GatherPoint g;
     const bool media = scene.has_media();
     const Medium* medium = scene.camera_medium();
-    std::vector<GatherPoint> points;  // in media only
+    // In media only; kept per thread so that camera rays do not allocate (gather_along does not
+    // nest: no shade() gathers again).
+    thread_local std::vector<GatherPoint> points;
     for (int depth = 0;; ++depth) {
         if (media) {
             points.clear();
