@@ -518,3 +518,160 @@ TEST(Media, SingleScatteringFromAPointLightMatchesQuadrature) {
     }
     for (int c = 0; c < 3; ++c) EXPECT_LT(noise[1][c], 0.7 * noise[0][c]) << "channel " << c;
 }
+
+TEST(Media, APresetIsPbrtV4sMeasuredCoefficientsTimesScale) {
+    // Jensen et al. 2001, table 2 (mm^-1): Skin1 sigma_s' = 0.74 / 0.88 / 1.01, sigma_a = 0.032 /
+    // 0.17 / 0.48; Narasimhan et al. 2006: Regular Milk sigma_s' 4.5513 / 5.8294 / 7.136.
+    const SceneDesc skin = parse_scene_string(
+        "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" [ \"Skin1\" ]\n"
+        "  \"float scale\" [ 2 ]\nWorldBegin\n",
+        ".", "test.pbrt");
+    ASSERT_EQ(skin.media.size(), 1u);
+    const MediumProperties p = skin.media[0]->at(Vec3(0.3f, -2, 5));
+    const float sa[3] = {0.032f, 0.17f, 0.48f}, ss[3] = {0.74f, 0.88f, 1.01f};
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_FLOAT_EQ(p.sigma_a[c], 2 * sa[c]) << c;
+        EXPECT_FLOAT_EQ(p.sigma_s[c], 2 * ss[c]) << c;
+    }
+    const SceneDesc milk = parse_scene_string(
+        "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" "
+        "[ \"Regular Milk\" ]\nWorldBegin\n",
+        ".", "test.pbrt");
+    EXPECT_FLOAT_EQ(milk.media[0]->at(Vec3(0, 0, 0)).sigma_s.b, 7.136f);
+    expect_scene_error(
+        "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" [ \"Skin3\" ]\n",
+        1, 49, "unknown \"preset\" \"Skin3\" (pbrt-v4's are \"Apple\", ");
+    expect_scene_error(
+        "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" [ \"Skin1\" ]\n"
+        "  \"rgb sigma_s\" [ 1 1 1 ]\n",
+        1, 49, "leave out \"sigma_a\" and \"sigma_s\"");
+    // pbrt-v4 reads a preset for homogeneous media only.
+    expect_scene_error(
+        "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ]\n"
+        "  \"string preset\" [ \"Skin1\" ]\n",
+        2, 3, "\"string preset\" is unknown or unused here");
+}
+
+TEST(Media, ACloudFillsItsFootAndThinsToNothingAtHeightOne) {
+    // pbrt-v4's cloud density, in medium space: 1 wherever y <= 0 (the 2 (0.5 - y) floor), 0 at
+    // y = 1 (the (1 - y) falloff), noise between; zero outside its box [p0, p1], and a majorant
+    // of sigma_a + sigma_s there.
+    const SceneDesc desc = parse_scene_string(
+        "Translate 10 0 0\nMakeNamedMedium \"c\" \"string type\" \"cloud\" \"rgb sigma_a\" "
+        "[ 0.5 1 2 ]\n  \"rgb sigma_s\" [ 3 2 1 ] \"point3 p0\" [ 0 -1 0 ] \"point3 p1\" "
+        "[ 1 1 1 ]\nWorldBegin\n",
+        ".", "test.pbrt");
+    const Medium& m = *desc.media[0];
+    EXPECT_EQ(m.type(), "cloud");
+    Rng rng(5);
+    int between = 0;
+    for (int i = 0; i < 400; ++i) {
+        const float x = rng.next_float(), z = rng.next_float();
+        const MediumProperties foot = m.at(Vec3(10 + x, -rng.next_float(), z));
+        EXPECT_FLOAT_EQ(foot.sigma_a.g, 1);
+        EXPECT_FLOAT_EQ(foot.sigma_s.r, 3);
+        EXPECT_NEAR(m.at(Vec3(10 + x, 0.99999f, z)).sigma_s.r, 0, 1e-3f);
+        const float mid = m.at(Vec3(10 + x, 0.5f + 0.4f * rng.next_float(), z)).sigma_s.r / 3;
+        EXPECT_GE(mid, 0);
+        EXPECT_LE(mid, 1);
+        between += mid > 0.01f && mid < 0.99f;
+    }
+    EXPECT_GT(between, 40);  // the noise, not a constant
+    const auto seg = m.majorant(Ray{Vec3(0, 0.5f, 0.5f), Vec3(1, 0, 0)}, 100);
+    ASSERT_TRUE(seg.has_value());
+    EXPECT_NEAR(seg->t0, 10, 1e-4f);
+    EXPECT_NEAR(seg->t1, 11, 1e-4f);
+    EXPECT_FLOAT_EQ(seg->sigma_maj, 3.5f);  // the largest channel of sigma_a + sigma_s
+    EXPECT_FALSE(m.majorant(Ray{Vec3(0, 0.5f, 0.5f), Vec3(-1, 0, 0)}, 100).has_value());
+    expect_scene_error("MakeNamedMedium \"c\" \"string type\" \"cloud\" \"float density\" [ -1 ]\n",
+                       1, 1, "\"density\" and \"wispiness\" must be finite and >= 0");
+}
+
+TEST(Subsurface, ASlabTransmitsThroughItsFresnelBoundaryAsBeersLaw) {
+    // An orthographic view, at normal incidence, of an emitter of 1 behind a slab 2 thick of an
+    // absorbing subsurface material (eta 1.5: R = 0.04 at each face; sigma_a (1, 2, 4) times
+    // "scale" 0.5): (1 - R)^2 T / (1 - R^2 T^2), T = exp(-2 sigma_a), the boundary's internal
+    // reflections summed (the emitter reflects nothing).
+    const std::string scene =
+        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"orthographic\"\n"
+        "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+        "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 12 ]\n"
+        "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
+        "Material \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+        "  \"point3 P\" [ -5 -5 4  -5 5 4  5 5 4  5 -5 4 ]\nAttributeEnd\n"
+        "Material \"subsurface\" \"float eta\" [ 1.5 ] \"rgb sigma_a\" [ 1 2 4 ]\n"
+        "  \"rgb sigma_s\" [ 0 0 0 ] \"float scale\" [ 0.5 ]\n" +
+        box(Vec3(-8, -8, 1), Vec3(8, 8, 3));
+    const Image img = render_text(scene, options(1024)).image;
+    const double R = 0.04, sigma[3] = {0.5, 1, 2};
+    for (int c = 0; c < 3; ++c) {
+        const double T = std::exp(-2 * sigma[c]);
+        expect_channel(img, c, (1 - R) * (1 - R) * T / (1 - R * R * T * T), 0.02);
+    }
+}
+
+TEST(Subsurface, IsItsDielectricBoundaryOverItsMeasuredMedium) {
+    // A subsurface sphere of Ketchup (pbrt-v4's measured coefficients, mm^-1, as unit^-1)
+    // renders pixel for pixel as a dielectric sphere of the same eta and roughness with a
+    // homogeneous medium of those coefficients inside (MediumInterface), by `path` and by a
+    // many-light integrator.
+    auto scene = [](const std::string& material) {
+        return "LookAt 0 2 -6  0 0.8 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 40 ]\n"
+               "Film \"rgb\" \"integer xresolution\" [ 20 ] \"integer yresolution\" [ 16 ]\n"
+               "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 8 ]\n"
+               "WorldBegin\n"
+               "MakeNamedMedium \"k\" \"string type\" \"homogeneous\" \"rgb sigma_a\" "
+               "[ 0.061 0.97 1.45 ] \"rgb sigma_s\" [ 0.18 0.07 0.03 ]\n"
+               "AttributeBegin\nTranslate 0 4 0\nAreaLightSource \"diffuse\" \"rgb L\" "
+               "[ 20 20 20 ]\nShape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+               "  \"point3 P\" [ -1 0 -1  1 0 -1  1 0 1  -1 0 1 ]\nAttributeEnd\n"
+               "Material \"diffuse\"\nShape \"trianglemesh\" \"integer indices\" "
+               "[ 0 1 2 0 2 3 ]\n  \"point3 P\" [ -5 0 -5  -5 0 5  5 0 5  5 0 -5 ]\n"
+               "AttributeBegin\n" +
+               material + "Translate 0 0.8 0\nShape \"sphere\" \"float radius\" [ 0.8 ]\n" +
+               "AttributeEnd\n";
+    };
+    const std::string subsurface = scene(
+        "Material \"subsurface\" \"string name\" [ \"Ketchup\" ]\n"
+        "  \"float roughness\" [ 0.2 ]\n");
+    const std::string dielectric = scene(
+        "MediumInterface \"k\" \"\"\nMaterial \"dielectric\" \"float eta\" [ 1.33 ]\n"
+        "  \"float roughness\" [ 0.2 ]\n");
+    for (const char* integrator : {"path", "mdlightcuts"}) {
+        SCOPED_TRACE(integrator);
+        RenderOptions opt = options(4);
+        opt.integrator = integrator;
+        const Image a = render_text(subsurface, opt).image, b = render_text(dielectric, opt).image;
+        ASSERT_EQ(a.pixels.size(), b.pixels.size());
+        double sum = 0;
+        for (size_t i = 0; i < a.pixels.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(a.pixels[i][c], b.pixels[i][c], 1e-4f * (1 + b.pixels[i][c])) << i;
+                sum += a.pixels[i][c];
+            }
+        EXPECT_GT(sum, 0);
+    }
+}
+
+TEST(Subsurface, WhatItCannotTakeSaysSo) {
+    const std::string head = "WorldBegin\nMaterial \"subsurface\" ";
+    expect_scene_error(head + "\"rgb reflectance\" [ 0.5 0.5 0.5 ]\n", 2, 23,
+                       "\"reflectance\" (pbrt-v4 inverts it through its diffusion profile's");
+    expect_scene_error(head + "\"string name\" [ \"Jam\" ]\n", 2, 23,
+                       "unknown \"name\" \"Jam\" (pbrt-v4's are \"Apple\"");
+    expect_scene_error(head + "\"string name\" [ \"Apple\" ] \"float g\" [ 0.5 ]\n", 2, 49,
+                       "\"g\" with a measured medium's \"name\"");
+    expect_scene_error(head + "\"rgb sigma_a\" [ 1 1 1 ]\n", 2, 23,
+                       "\"sigma_a\" and \"sigma_s\" go together");
+    expect_scene_error(
+        "WorldBegin\nTexture \"t\" \"spectrum\" \"checkerboard\"\n"
+        "Material \"subsurface\" \"texture sigma_a\" \"t\" \"rgb sigma_s\" [ 1 1 1 ]\n",
+        3, 23, "a textured \"sigma_a\" is not supported");
+    // Its medium fills the shape: a mix, one material or the other per hit, has no inside.
+    expect_scene_error(
+        "WorldBegin\nMakeNamedMaterial \"s\" \"string type\" \"subsurface\"\n"
+        "MakeNamedMaterial \"d\" \"string type\" \"diffuse\"\n"
+        "Material \"mix\" \"string materials\" [ \"s\" \"d\" ]\n",
+        4, 16, "the \"subsurface\" material \"s\" cannot be mixed");
+}

@@ -107,6 +107,14 @@ TEST(PbrtReference, GridMediumByMdlightcuts) { expect_matches_pbrt("media_grid",
 TEST(PbrtReference, GridMediumByStochasticLightcuts) {
     expect_matches_pbrt("media_grid", "stochasticlightcuts");
 }
+// pbrt-v4's procedural cloud and a measured medium by "preset", by path and by VPLs in them.
+TEST(PbrtReference, CloudAndPresetMedia) { expect_matches_pbrt("media_cloud"); }
+TEST(PbrtReference, CloudAndPresetMediaByMdlightcuts) {
+    expect_matches_pbrt("media_cloud", "mdlightcuts");
+}
+// What the subsurface material renders: light walking through dense media inside rough
+// dielectric spheres (pbrt-v4's own subsurface material is a BSSRDF, another model).
+TEST(PbrtReference, DenseMediaInsideRoughDielectrics) { expect_matches_pbrt("media_walk"); }
 TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
 TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
 TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }

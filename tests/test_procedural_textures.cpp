@@ -9,7 +9,7 @@
 #include <set>
 #include <tuple>
 
-#include "materials/noise.h"
+#include "core/noise.h"
 #include "materials/procedural_textures.h"
 #include "parser_test_helpers.h"
 #include "scene/scene_desc.h"

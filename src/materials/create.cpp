@@ -1,7 +1,11 @@
 // The `Material` directive's factory: pbrt-v4's parameter names and defaults for diffuse,
 // conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, diffusetransmission,
-// mix and interface.
+// mix, interface, hair and subsurface.
 #include "materials/create.h"
+
+#include <cmath>
+
+#include "core/scattering_presets.h"
 
 #include "materials/hair.h"
 #include "materials/materials.h"
@@ -104,6 +108,80 @@ RGB named_or_die(const char* name) { return named_spectrum_rgb(name).value_or(RG
 
 }  // namespace
 
+// pbrt-v4's "subsurface": a dielectric boundary ("eta" 1.33, its roughness) over a homogeneous
+// medium given by a measured medium's "name", by "sigma_a" and "sigma_s", or pbrt-v4's default
+// (skim milk's coefficients, mm^-1), times "scale". pbrt-v4 shades it with a tabulated BSSRDF;
+// manylight walks the medium itself (the shape's inside, see SceneBuilder).
+std::unique_ptr<Material> create_subsurface(const ParameterList& params, const MaterialParams& mp,
+                                            std::shared_ptr<FloatTexture> displacement,
+                                            const FileLoc& loc) {
+    InteriorMedium m;
+    m.g = params.get_float("g", 0);
+    if (!(m.g > -1 && m.g < 1))
+        throw_input_error(loc_of(params, "g", loc), "subsurface: \"g\" must be in (-1, 1)");
+    auto constant = [&](const char* name) {
+        const RGBParam c = mp.get_rgb(name, RGB(0));
+        if (c.tex)
+            throw_input_error(loc_of(params, name, loc),
+                              "subsurface: a textured \"{}\" is not supported (the medium inside "
+                              "is homogeneous): give a constant",
+                              name);
+        return c.value;
+    };
+    if (params.has("reflectance") || params.has("mfp")) {
+        const char* name = params.has("reflectance") ? "reflectance" : "mfp";
+        throw_input_error(loc_of(params, name, loc),
+                          "subsurface: \"{}\" (pbrt-v4 inverts it through its diffusion "
+                          "profile's table) is not supported: give \"sigma_a\" and \"sigma_s\", "
+                          "or a measured medium's \"name\"",
+                          name);
+    }
+    if (params.has("name")) {
+        const std::string name = params.get_string("name", "");
+        const auto preset = scattering_preset(name);
+        if (!preset)
+            throw_input_error(loc_of(params, "name", loc),
+                              "subsurface: unknown \"name\" \"{}\" (pbrt-v4's are {})", name,
+                              scattering_preset_names());
+        if (params.has("sigma_a") || params.has("sigma_s"))
+            throw_input_error(loc_of(params, "name", loc),
+                              "subsurface: \"name\" gives sigma_a and sigma_s; leave out "
+                              "\"sigma_a\" and \"sigma_s\"");
+        // pbrt-v4 ignores "g" here (the tables hold reduced scattering coefficients).
+        if (params.has("g"))
+            throw_input_error(loc_of(params, "g", loc),
+                              "subsurface: \"g\" with a measured medium's \"name\" (pbrt-v4 "
+                              "ignores it: the table's scattering is reduced, for g = 0)");
+        m.sigma_a = preset->sigma_a;
+        m.sigma_s = preset->sigma_s;
+    } else if (params.has("sigma_a") != params.has("sigma_s")) {
+        throw_input_error(loc_of(params, params.has("sigma_a") ? "sigma_a" : "sigma_s", loc),
+                          "subsurface: \"sigma_a\" and \"sigma_s\" go together");
+    } else if (params.has("sigma_a")) {
+        m.sigma_a = constant("sigma_a");
+        m.sigma_s = constant("sigma_s");
+    } else {
+        m.sigma_a = RGB(.0011f, .0024f, .014f);
+        m.sigma_s = RGB(2.55f, 3.21f, 3.77f);
+    }
+    const float scale = params.get_float("scale", 1);
+    if (!(scale >= 0) || !std::isfinite(scale))
+        throw_input_error(loc_of(params, "scale", loc), "subsurface: \"scale\" must be >= 0");
+    m.sigma_a *= scale;
+    m.sigma_s *= scale;
+    for (const RGB& c : {m.sigma_a, m.sigma_s})
+        if (!(c.r >= 0 && c.g >= 0 && c.b >= 0) || !c.is_finite())
+            throw_input_error(loc,
+                              "subsurface: \"sigma_a\" and \"sigma_s\" must be finite and "
+                              "non-negative");
+    const FloatParam eta = mp.get_float("eta", 1.33f);
+    if (eta.tex)
+        throw_input_error(loc_of(params, "eta", loc),
+                          "subsurface: a textured \"eta\" is not "
+                          "supported");
+    return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), std::move(displacement), m);
+}
+
 std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
                                           const NamedTextures& textures, const FileLoc& loc,
                                           const std::map<std::string, const Material*>& named) {
@@ -186,9 +264,9 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
             if (it == named.end())
                 throw_input_error(at, "mix: undefined named material \"{}\"", names[size_t(i)]);
             m[i] = it->second;
-            if (m[i]->type() == "interface")
-                throw_input_error(at, "mix: the \"interface\" material \"{}\" cannot be mixed",
-                                  names[size_t(i)]);
+            if (m[i]->type() == "interface" || m[i]->interior_medium())
+                throw_input_error(at, "mix: the \"{}\" material \"{}\" cannot be mixed",
+                                  m[i]->type(), names[size_t(i)]);
         }
         return std::make_unique<MixMaterial>(m[0], m[1], mp.get_float("amount", 0.5f));
     }
@@ -255,10 +333,9 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
             source, colour, eu, pheo, mp.get_float("eta", 1.55f), mp.get_float("beta_m", 0.3f),
             mp.get_float("beta_n", 0.3f), mp.get_float("alpha", 2.f));
     }
-    for (const char* pbrt : {"measured", "subsurface"})
-        if (type == pbrt)
-            throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight",
-                              type);
+    if (type == "subsurface") return create_subsurface(params, mp, displacement, loc);
+    if (type == "measured")
+        throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight", type);
     throw_input_error(loc, "unknown material type \"{}\"", type);
 }
 

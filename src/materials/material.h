@@ -5,15 +5,25 @@
 #include <memory>
 #include <string>
 
+#include "core/color.h"
 #include "core/scratch.h"
 #include "geometry/interaction.h"
 #include "materials/bsdf.h"
 
 namespace ml {
 
+// What fills a closed shape of a material that has an inside (pbrt-v4's "subsurface"): a
+// homogeneous medium, per unit of world distance, that the scene gives the shape as its inside.
+struct InteriorMedium {
+    RGB sigma_a, sigma_s;
+    float g = 0;
+};
+
 class Material {
 public:
     virtual ~Material() = default;
+    // The medium inside shapes of this material, if it brings one.
+    virtual const InteriorMedium* interior_medium() const { return nullptr; }
     // The BSDF at a hit; its Bxdf lives in `scratch` until the next reset.
     virtual Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const = 0;
     virtual std::string type() const = 0;

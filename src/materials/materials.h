@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "materials/material.h"
 #include "materials/microfacet.h"
@@ -101,19 +102,27 @@ private:
     RoughnessParams m_roughness;
 };
 
+// pbrt-v4's "dielectric"; with an interior medium, its "subsurface": the same boundary over a
+// homogeneous medium that light walks through by the integrators' own volumetric transport.
 class DielectricMaterial final : public MaterialBase {
 public:
     DielectricMaterial(FloatParam eta, RoughnessParams roughness,
-                       std::shared_ptr<FloatTexture> displacement)
+                       std::shared_ptr<FloatTexture> displacement,
+                       std::optional<InteriorMedium> interior = std::nullopt)
         : MaterialBase(std::move(displacement)),
           m_eta(std::move(eta)),
-          m_roughness(std::move(roughness)) {}
+          m_roughness(std::move(roughness)),
+          m_interior(std::move(interior)) {}
     Bsdf get_bsdf(const SurfaceInteraction& si, ScratchBuffer& scratch) const override;
-    std::string type() const override { return "dielectric"; }
+    std::string type() const override { return m_interior ? "subsurface" : "dielectric"; }
+    const InteriorMedium* interior_medium() const override {
+        return m_interior ? &*m_interior : nullptr;
+    }
 
 private:
     FloatParam m_eta;
     RoughnessParams m_roughness;
+    std::optional<InteriorMedium> m_interior;
 };
 
 class ThinDielectricMaterial final : public MaterialBase {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "materials/noise.h"
+#include "core/noise.h"
 
 namespace ml {
 

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/noise.h"
+#include "core/scattering_presets.h"
+
 namespace ml {
 
 float hg_phase(const Vec3& wo, const Vec3& wi, float g) {
@@ -205,6 +208,59 @@ private:
     float m_scale, m_le_scale;
 };
 
+// pbrt-v4's "cloud": a procedural cloud in the box [p0, p1] of medium space, its density a sum of
+// five octaves of Perlin noise at "frequency" times the point (moved about by the noise's gradient
+// where "wispiness" > 0), thinning with height above y = 0 and filling in below y = 0.5, clamped
+// to [0, 1]; sigma_a and sigma_s times that density.
+class CloudMedium final : public BoxMedium {
+public:
+    CloudMedium(const Transform& medium_to_world, const Vec3& p0, const Vec3& p1,
+                const RGB& sigma_a, const RGB& sigma_s, float g, float density, float wispiness,
+                float frequency)
+        : BoxMedium(medium_to_world, p0, p1, g),
+          m_p0(p0),
+          m_p1(p1),
+          m_sigma_a(sigma_a),
+          m_sigma_s(sigma_s),
+          m_density(density),
+          m_wispiness(wispiness),
+          m_frequency(frequency) {
+        m_sigma_maj = (sigma_a + sigma_s).max_component();  // the density is at most 1
+    }
+    std::string type() const override { return "cloud"; }
+
+private:
+    MediumProperties at_unit(const Vec3& u) const override {
+        const Vec3 p(m_p0.x + u.x * (m_p1.x - m_p0.x), m_p0.y + u.y * (m_p1.y - m_p0.y),
+                     m_p0.z + u.z * (m_p1.z - m_p0.z));
+        const float d = density(p);
+        return {m_sigma_a * d, m_sigma_s * d, RGB()};
+    }
+    float density(const Vec3& p) const {
+        Vec3 pp = p * m_frequency;
+        if (m_wispiness > 0) {
+            float omega = 0.05f * m_wispiness, lambda = 10;
+            for (int i = 0; i < 2; ++i) {
+                pp = pp + perlin_noise_gradient(pp * lambda) * omega;
+                omega *= 0.5f;
+                lambda *= 1.99f;
+            }
+        }
+        float d = 0, omega = 0.5f, lambda = 1;
+        for (int i = 0; i < 5; ++i) {
+            d += omega * perlin_noise(pp * lambda);
+            omega *= 0.5f;
+            lambda *= 1.99f;
+        }
+        d = std::clamp((1 - p.y) * 4.5f * m_density * d, 0.f, 1.f);
+        d += 2 * std::max(0.f, 0.5f - p.y);
+        return std::clamp(d, 0.f, 1.f);
+    }
+    Vec3 m_p0, m_p1;
+    RGB m_sigma_a, m_sigma_s;
+    float m_density, m_wispiness, m_frequency;
+};
+
 float checked_g(const ParameterList& params, const FileLoc& loc) {
     const float g = params.get_float("g", 0);
     if (!(g > -1 && g < 1))
@@ -262,25 +318,55 @@ std::unique_ptr<Medium> create_rgb_grid(const ParameterList& params,
                                            scale, grid(Le), le_scale, g);
 }
 
+std::unique_ptr<Medium> create_cloud(const ParameterList& params, const Transform& medium_to_world,
+                                     const FileLoc& loc) {
+    const RGB sigma_a = medium_rgb(params, "sigma_a", RGB(1.f)),
+              sigma_s = medium_rgb(params, "sigma_s", RGB(1.f));
+    check_non_negative(sigma_a, "sigma_a", loc);
+    check_non_negative(sigma_s, "sigma_s", loc);
+    const float density = params.get_float("density", 1), wispiness = params.get_float("wispiness", 1),
+                frequency = params.get_float("frequency", 5);
+    if (!(density >= 0) || !std::isfinite(density) || !(wispiness >= 0) ||
+        !std::isfinite(wispiness) || !std::isfinite(frequency))
+        throw_input_error(loc,
+                          "medium \"cloud\": \"density\" and \"wispiness\" must be finite and "
+                          ">= 0, \"frequency\" finite");
+    const float g = checked_g(params, loc);
+    const auto [p0, p1] = grid_box(params, "cloud", loc);
+    return std::make_unique<CloudMedium>(medium_to_world, p0, p1, sigma_a, sigma_s, g, density,
+                                         wispiness, frequency);
+}
+
 }  // namespace
 
 std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterList& params,
                                       const Transform& medium_to_world, const FileLoc& loc) {
-    if (type == "cloud" || type == "nanovdb")
+    if (type == "nanovdb")
         throw_input_error(loc,
-                          "medium \"{}\" is not supported yet (manylight reads \"homogeneous\", "
-                          "\"uniformgrid\" and \"rgbgrid\")",
-                          type);
-    if (type != "homogeneous" && type != "uniformgrid" && type != "rgbgrid")
+                          "medium \"nanovdb\" is not supported yet (manylight reads "
+                          "\"homogeneous\", \"uniformgrid\", \"rgbgrid\" and \"cloud\")");
+    if (type != "homogeneous" && type != "uniformgrid" && type != "rgbgrid" && type != "cloud")
         throw_input_error(loc, "unknown medium type \"{}\"", type);
-    if (params.has("preset"))
-        throw_input_error(params.find("preset")->loc,
-                          "medium: \"preset\" (pbrt-v4's measured scattering coefficients) is "
-                          "not supported yet: give sigma_a and sigma_s");
     if (type == "rgbgrid") return create_rgb_grid(params, medium_to_world, loc);
+    if (type == "cloud") return create_cloud(params, medium_to_world, loc);
     const float scale = params.get_float("scale", 1);
-    const RGB sigma_a = medium_rgb(params, "sigma_a", RGB(1.f)) * scale;
-    const RGB sigma_s = medium_rgb(params, "sigma_s", RGB(1.f)) * scale;
+    RGB sigma_a = medium_rgb(params, "sigma_a", RGB(1.f)) * scale;
+    RGB sigma_s = medium_rgb(params, "sigma_s", RGB(1.f)) * scale;
+    // pbrt-v4 reads "preset" for homogeneous media only (elsewhere it is an unused parameter).
+    if (type == "homogeneous" && params.has("preset")) {
+        const Param* p = params.find("preset");
+        const std::string name = params.get_string("preset", "");
+        const auto preset = scattering_preset(name);
+        if (!preset)
+            throw_input_error(p->loc, "medium: unknown \"preset\" \"{}\" (pbrt-v4's are {})",
+                              name, scattering_preset_names());
+        if (params.has("sigma_a") || params.has("sigma_s"))
+            throw_input_error(p->loc,
+                              "medium: \"preset\" gives sigma_a and sigma_s; leave out "
+                              "\"sigma_a\" and \"sigma_s\"");
+        sigma_a = preset->sigma_a * scale;
+        sigma_s = preset->sigma_s * scale;
+    }
     check_non_negative(sigma_a, "sigma_a", loc);
     check_non_negative(sigma_s, "sigma_s", loc);
     const float g = checked_g(params, loc);
@@ -322,6 +408,10 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
     const auto [p0, p1] = grid_box(params, "uniformgrid", loc);
     return std::make_unique<GridMedium>(medium_to_world, p0, p1, Grid<float>(density, nx, ny, nz),
                                         sigma_a, sigma_s, Le, std::move(le_grid), g);
+}
+
+std::unique_ptr<Medium> make_homogeneous_medium(const RGB& sigma_a, const RGB& sigma_s, float g) {
+    return std::make_unique<HomogeneousMedium>(sigma_a, sigma_s, RGB(), g);
 }
 
 }  // namespace ml

@@ -56,9 +56,13 @@ protected:
     bool m_emits = false;
 };
 
-// `MakeNamedMedium name "string type" [ ... ]`: "homogeneous" or "uniformgrid", the CTM at the
-// directive being medium space to world. The other pbrt-v4 types are refused at `loc`.
+// `MakeNamedMedium name "string type" [ ... ]`: "homogeneous" (or a "preset"), "uniformgrid",
+// "rgbgrid" or "cloud", the CTM at the directive being medium space to world. The other pbrt-v4
+// types are refused at `loc`.
 std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterList& params,
                                       const Transform& medium_to_world, const FileLoc& loc);
+
+// A homogeneous medium of these coefficients (per unit of world distance), without emission.
+std::unique_ptr<Medium> make_homogeneous_medium(const RGB& sigma_a, const RGB& sigma_s, float g);
 
 }  // namespace ml

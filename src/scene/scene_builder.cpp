@@ -576,9 +576,23 @@ SceneDesc SceneBuilder::finish() {
         light.medium_outside = light.medium_inside = find_medium(lm.name, lm.loc);
     }
     std::vector<std::pair<const Medium*, const Medium*>> shape_media(m_shapes.size());
-    for (size_t i = 0; i < m_shapes.size(); ++i)
-        shape_media[i] = {find_medium(m_shapes[i].inside_medium, m_shapes[i].loc),
-                          find_medium(m_shapes[i].outside_medium, m_shapes[i].loc)};
+    std::vector<bool> has_interior(m_shapes.size(), false);
+    std::map<const Material*, const Medium*> interiors;
+    for (size_t i = 0; i < m_shapes.size(); ++i) {
+        const ShapeRecord& r = m_shapes[i];
+        shape_media[i] = {find_medium(r.inside_medium, r.loc), find_medium(r.outside_medium, r.loc)};
+        // A material with a medium inside (pbrt-v4's "subsurface") fills its shape with it, one
+        // medium per material; the outside stays the MediumInterface's.
+        const InteriorMedium* in = r.material ? r.material->interior_medium() : nullptr;
+        if (!in) continue;
+        auto [it, added] = interiors.try_emplace(r.material, nullptr);
+        if (added) {
+            m_desc.media.push_back(make_homogeneous_medium(in->sigma_a, in->sigma_s, in->g));
+            it->second = m_desc.media.back().get();
+        }
+        shape_media[i].first = it->second;
+        has_interior[i] = true;
+    }
 
     // Shapes with no material get the default one, created only when needed.
     for (ShapeRecord& r : m_shapes)
@@ -622,7 +636,7 @@ SceneDesc SceneBuilder::finish() {
         mesh->material = r.material;
         mesh->alpha = r.alpha;
         // As pbrt-v4: only a shape between two different media changes a ray's medium.
-        if (r.inside_medium != r.outside_medium) {
+        if (r.inside_medium != r.outside_medium || has_interior[i]) {
             mesh->medium_interface = true;
             mesh->medium_inside = shape_media[i].first;
             mesh->medium_outside = shape_media[i].second;

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Renders the pbrt-v4 references of tests/test_pbrt_reference.cpp: each named scene of this
-# folder by pbrt-v4 at 1024 spp into NAME.exr beside it.
+# folder by pbrt-v4 at 1024 spp (media_walk 4096) into NAME.exr beside it.
 #   tests/scenes/pbrt-v4-references.sh PBRT_BINARY [NAME ...]   (default: every reference)
 # pbrt-v4 is built by the lead's tools (not part of manylight); any pbrt-v4 build will do.
 set -euo pipefail
@@ -12,10 +12,12 @@ names=("$@")
   camera_equalarea tex_bilerp tex_dots tex_fbm tex_wrinkled tex_windy tex_marble tex_mix
   tex_directionmix mat_thindielectric mat_mix shape_cylinder media_fog media_grid
   light_goniometric light_projection light_area_image mat_coateddiffuse mat_coatedconductor
-  mat_coatedconductor_depth2 mat_interface
+  mat_coatedconductor_depth2 mat_interface media_cloud media_walk
   shape_curve mat_hair camera_realistic
   camera_realistic_star shape_loopsubdiv film_crop light_alpha light_portal)
 for n in "${names[@]}"; do
   echo "== $n"
-  "$pbrt" --quiet --spp 1024 --seed 1 --outfile "$n.exr" "$n.pbrt"
+  spp=1024
+  [ "$n" = media_walk ] && spp=4096  # random walks in dense media: noisy
+  "$pbrt" --quiet --spp "$spp" --seed 1 --outfile "$n.exr" "$n.pbrt"
 done

@@ -12,6 +12,8 @@ namespace ml {
 // z = 0.5 (and y = 0.5 for 1D).
 float perlin_noise(float x, float y, float z);
 inline float perlin_noise(const Vec3& p) { return perlin_noise(p.x, p.y, p.z); }
+// The noise's gradient as pbrt-v4's DNoise takes it: forward differences over 0.01.
+Vec3 perlin_noise_gradient(const Vec3& p);
 
 // The number of octaves pbrt-v4 sums for a footprint of squared size `footprint2` in noise space
 // (the larger of |dp/dx|^2 and |dp/dy|^2): clamp(-1 - log2(footprint2) / 2, 0, max_octaves), so

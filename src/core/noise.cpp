@@ -1,4 +1,4 @@
-#include "materials/noise.h"
+#include "core/noise.h"
 
 #include <algorithm>
 #include <array>
@@ -65,6 +65,13 @@ float perlin_noise(float x, float y, float z) {
     float y0 = lerp(wy, along_x(0, 0, dy, dz), along_x(1, 0, dy - 1, dz));
     float y1 = lerp(wy, along_x(0, 1, dy, dz - 1), along_x(1, 1, dy - 1, dz - 1));
     return lerp(wz, y0, y1);
+}
+
+Vec3 perlin_noise_gradient(const Vec3& p) {
+    const float delta = 0.01f, n = perlin_noise(p);
+    return Vec3(perlin_noise(p + Vec3(delta, 0, 0)) - n, perlin_noise(p + Vec3(0, delta, 0)) - n,
+                perlin_noise(p + Vec3(0, 0, delta)) - n) /
+           delta;
 }
 
 float noise_octaves(float footprint2, int max_octaves) {
