@@ -42,6 +42,7 @@ const std::vector<std::pair<std::string, std::set<std::string>>> kWrappedLibrari
     {"embree3/", {"src/geometry/embree_scene.cpp"}},
     {"tbb/", {"src/core/parallel.h"}},
     {"mpi.h", {"src/distributed/mpi_world.cpp"}},
+    {"nanovdb/", {"src/media/nanovdb_medium.cpp"}},
 };
 
 struct Include {

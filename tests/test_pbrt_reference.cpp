@@ -112,6 +112,11 @@ TEST(PbrtReference, CloudAndPresetMedia) { expect_matches_pbrt("media_cloud"); }
 TEST(PbrtReference, CloudAndPresetMediaByMdlightcuts) {
     expect_matches_pbrt("media_cloud", "mdlightcuts");
 }
+// A NanoVDB grid of smoke (ZIP-compressed), rotated and moved by the CTM at MakeNamedMedium.
+TEST(PbrtReference, NanoVdbMedium) { expect_matches_pbrt("media_nanovdb"); }
+TEST(PbrtReference, NanoVdbMediumByStochasticLightcuts) {
+    expect_matches_pbrt("media_nanovdb", "stochasticlightcuts", 64);
+}
 // What the subsurface material renders: light walking through dense media inside rough
 // dielectric spheres (pbrt-v4's own subsurface material is a BSSRDF, another model).
 TEST(PbrtReference, DenseMediaInsideRoughDielectrics) { expect_matches_pbrt("media_walk"); }

@@ -5,6 +5,7 @@
 
 #include "core/noise.h"
 #include "core/scattering_presets.h"
+#include "media/nanovdb_medium.h"
 
 namespace ml {
 
@@ -28,6 +29,27 @@ Vec3 sample_hg_phase(const Vec3& wo, float g, const Vec2& u) {
     const float phi = 2 * kPi * u.y;
     const Frame f = Frame::from_z(wo);
     return f.to_world(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), mu));
+}
+
+std::optional<MajorantSegment> box_majorant(const Transform& world_to_medium, const Vec3& p0,
+                                            const Vec3& p1, float sigma_maj, const Ray& ray,
+                                            float tmax) {
+    // The ray in medium space keeps its parameter (an affine map).
+    const Vec3 o = world_to_medium.point(ray.o), d = world_to_medium.vector(ray.d);
+    float t0 = 0, t1 = tmax;
+    for (int i = 0; i < 3; ++i) {
+        const float inv = 1 / d[i];
+        float tn = (p0[i] - o[i]) * inv, tf = (p1[i] - o[i]) * inv;
+        if (tn > tf) std::swap(tn, tf);
+        if (std::isnan(tn) || std::isnan(tf)) {  // parallel to the slab
+            if (o[i] < p0[i] || o[i] > p1[i]) return std::nullopt;
+            continue;
+        }
+        t0 = std::max(t0, tn);
+        t1 = std::min(t1, tf);
+    }
+    if (!(t0 < t1)) return std::nullopt;
+    return MajorantSegment{t0, t1, sigma_maj};
 }
 
 namespace {
@@ -104,22 +126,7 @@ public:
                             (p.z - m_p0.z) / (m_p1.z - m_p0.z)));
     }
     std::optional<MajorantSegment> majorant(const Ray& ray, float tmax) const override {
-        // The ray in medium space keeps its parameter (an affine map).
-        const Vec3 o = m_world_to_medium.point(ray.o), d = m_world_to_medium.vector(ray.d);
-        float t0 = 0, t1 = tmax;
-        for (int i = 0; i < 3; ++i) {
-            const float inv = 1 / d[i];
-            float tn = (m_p0[i] - o[i]) * inv, tf = (m_p1[i] - o[i]) * inv;
-            if (tn > tf) std::swap(tn, tf);
-            if (std::isnan(tn) || std::isnan(tf)) {  // parallel to the slab
-                if (o[i] < m_p0[i] || o[i] > m_p1[i]) return std::nullopt;
-                continue;
-            }
-            t0 = std::max(t0, tn);
-            t1 = std::min(t1, tf);
-        }
-        if (!(t0 < t1)) return std::nullopt;
-        return MajorantSegment{t0, t1, m_sigma_maj};
+        return box_majorant(m_world_to_medium, m_p0, m_p1, m_sigma_maj, ray, tmax);
     }
     bool homogeneous() const override { return false; }
 
@@ -324,7 +331,8 @@ std::unique_ptr<Medium> create_cloud(const ParameterList& params, const Transfor
               sigma_s = medium_rgb(params, "sigma_s", RGB(1.f));
     check_non_negative(sigma_a, "sigma_a", loc);
     check_non_negative(sigma_s, "sigma_s", loc);
-    const float density = params.get_float("density", 1), wispiness = params.get_float("wispiness", 1),
+    const float density = params.get_float("density", 1),
+                wispiness = params.get_float("wispiness", 1),
                 frequency = params.get_float("frequency", 5);
     if (!(density >= 0) || !std::isfinite(density) || !(wispiness >= 0) ||
         !std::isfinite(wispiness) || !std::isfinite(frequency))
@@ -340,11 +348,9 @@ std::unique_ptr<Medium> create_cloud(const ParameterList& params, const Transfor
 }  // namespace
 
 std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterList& params,
-                                      const Transform& medium_to_world, const FileLoc& loc) {
-    if (type == "nanovdb")
-        throw_input_error(loc,
-                          "medium \"nanovdb\" is not supported yet (manylight reads "
-                          "\"homogeneous\", \"uniformgrid\", \"rgbgrid\" and \"cloud\")");
+                                      const Transform& medium_to_world, const std::string& base_dir,
+                                      const FileLoc& loc) {
+    if (type == "nanovdb") return create_nanovdb_medium(params, medium_to_world, base_dir, loc);
     if (type != "homogeneous" && type != "uniformgrid" && type != "rgbgrid" && type != "cloud")
         throw_input_error(loc, "unknown medium type \"{}\"", type);
     if (type == "rgbgrid") return create_rgb_grid(params, medium_to_world, loc);
@@ -358,8 +364,8 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
         const std::string name = params.get_string("preset", "");
         const auto preset = scattering_preset(name);
         if (!preset)
-            throw_input_error(p->loc, "medium: unknown \"preset\" \"{}\" (pbrt-v4's are {})",
-                              name, scattering_preset_names());
+            throw_input_error(p->loc, "medium: unknown \"preset\" \"{}\" (pbrt-v4's are {})", name,
+                              scattering_preset_names());
         if (params.has("sigma_a") || params.has("sigma_s"))
             throw_input_error(p->loc,
                               "medium: \"preset\" gives sigma_a and sigma_s; leave out "

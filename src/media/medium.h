@@ -57,10 +57,17 @@ protected:
 };
 
 // `MakeNamedMedium name "string type" [ ... ]`: "homogeneous" (or a "preset"), "uniformgrid",
-// "rgbgrid" or "cloud", the CTM at the directive being medium space to world. The other pbrt-v4
-// types are refused at `loc`.
+// "rgbgrid", "cloud" or "nanovdb" (its file relative to `base_dir`), the CTM at the directive
+// being medium space to world.
 std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterList& params,
-                                      const Transform& medium_to_world, const FileLoc& loc);
+                                      const Transform& medium_to_world, const std::string& base_dir,
+                                      const FileLoc& loc);
+
+// The part of `ray` in [0, tmax) inside the box [p0, p1] of medium space, with one majorant for
+// all of it; nullopt where it misses the box.
+std::optional<MajorantSegment> box_majorant(const Transform& world_to_medium, const Vec3& p0,
+                                            const Vec3& p1, float sigma_maj, const Ray& ray,
+                                            float tmax);
 
 // A homogeneous medium of these coefficients (per unit of world distance), without emission.
 std::unique_ptr<Medium> make_homogeneous_medium(const RGB& sigma_a, const RGB& sigma_s, float g);

@@ -520,7 +520,7 @@ void SceneBuilder::make_named_medium(const std::string& name, const ParameterLis
                           name);
     const std::string type = params.get_string("type", "");
     if (type.empty()) throw_input_error(loc, "MakeNamedMedium \"{}\" has no \"string type\"", name);
-    auto medium = create_medium(type, params, m_state.ctm[0], loc);
+    auto medium = create_medium(type, params, m_state.ctm[0], m_desc.base_dir, loc);
     params.check_unused();
     m_named_media[name] = medium.get();
     m_desc.media.push_back(std::move(medium));
@@ -580,7 +580,8 @@ SceneDesc SceneBuilder::finish() {
     std::map<const Material*, const Medium*> interiors;
     for (size_t i = 0; i < m_shapes.size(); ++i) {
         const ShapeRecord& r = m_shapes[i];
-        shape_media[i] = {find_medium(r.inside_medium, r.loc), find_medium(r.outside_medium, r.loc)};
+        shape_media[i] = {find_medium(r.inside_medium, r.loc),
+                          find_medium(r.outside_medium, r.loc)};
         // A material with a medium inside (pbrt-v4's "subsurface") fills its shape with it, one
         // medium per material; the outside stays the MediumInterface's.
         const InteriorMedium* in = r.material ? r.material->interior_medium() : nullptr;

@@ -1,0 +1,125 @@
+#include "media/nanovdb_medium.h"
+
+#include <filesystem>
+
+// NanoVDB reads files written with ZIP (zlib) or Blosc compression when told so.
+#define NANOVDB_USE_ZIP
+#define NANOVDB_USE_BLOSC
+#include <nanovdb/NanoVDB.h>
+#include <nanovdb/util/IO.h>
+#include <nanovdb/util/SampleFromVoxels.h>
+
+namespace ml {
+
+namespace {
+
+using GridHandle = nanovdb::GridHandle<nanovdb::HostBuffer>;
+
+class NanoVdbMedium final : public Medium {
+public:
+    NanoVdbMedium(const Transform& medium_to_world, GridHandle handle, const RGB& sigma_a,
+                  const RGB& sigma_s, float g, float max_density)
+        : m_world_to_medium(medium_to_world.inverse()),
+          m_handle(std::move(handle)),
+          m_grid(m_handle.grid<float>()),
+          m_sigma_a(sigma_a),
+          m_sigma_s(sigma_s) {
+        m_g = g;
+        const auto box = m_grid->worldBBox();
+        m_p0 = Vec3(float(box.min()[0]), float(box.min()[1]), float(box.min()[2]));
+        m_p1 = Vec3(float(box.max()[0]), float(box.max()[1]), float(box.max()[2]));
+        // Trilinear interpolation stays within the voxels' values (the background is 0).
+        m_sigma_maj = max_density * (sigma_a + sigma_s).max_component();
+    }
+    MediumProperties at(const Vec3& p_world) const override {
+        const Vec3 p = m_world_to_medium.point(p_world);
+        const nanovdb::Vec3f index = m_grid->worldToIndexF(nanovdb::Vec3f(p.x, p.y, p.z));
+        using Sampler = nanovdb::SampleFromVoxels<nanovdb::FloatGrid::TreeType, 1, false>;
+        const float d = Sampler(m_grid->tree())(index);
+        return {m_sigma_a * d, m_sigma_s * d, RGB()};
+    }
+    std::optional<MajorantSegment> majorant(const Ray& ray, float tmax) const override {
+        return box_majorant(m_world_to_medium, m_p0, m_p1, m_sigma_maj, ray, tmax);
+    }
+    bool homogeneous() const override { return false; }
+    std::string type() const override { return "nanovdb"; }
+
+private:
+    Transform m_world_to_medium;
+    GridHandle m_handle;
+    const nanovdb::FloatGrid* m_grid;
+    RGB m_sigma_a, m_sigma_s;
+    Vec3 m_p0, m_p1;  // the grid's bounds in medium space
+    float m_sigma_maj = 0;
+};
+
+GridHandle read_grid(const std::string& path, const std::string& name, const FileLoc& loc) {
+    try {
+        return nanovdb::io::readGrid<nanovdb::HostBuffer>(path, name);
+    } catch (const std::exception& e) {
+        throw_input_error(loc, "medium \"nanovdb\": cannot read \"{}\" from {}: {}", name, path,
+                          e.what());
+    }
+}
+
+}  // namespace
+
+std::unique_ptr<Medium> create_nanovdb_medium(const ParameterList& params,
+                                              const Transform& medium_to_world,
+                                              const std::string& base_dir, const FileLoc& loc) {
+    const std::string filename = params.get_string("filename", "");
+    if (filename.empty()) throw_input_error(loc, "medium \"nanovdb\": no \"string filename\"");
+    std::filesystem::path path(filename);
+    if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
+    const FileLoc& at = params.find("filename")->loc;
+    if (!std::filesystem::is_regular_file(path))
+        throw_input_error(at, "medium \"nanovdb\": no file {}", path.string());
+    const std::string grid_name = params.get_string("gridname", "density");
+    GridHandle density = read_grid(path.string(), grid_name, at);
+    if (!density)
+        throw_input_error(at, "medium \"nanovdb\": {} has no grid \"{}\"", path.string(),
+                          grid_name);
+    const nanovdb::FloatGrid* grid = density.grid<float>();
+    if (!grid)
+        throw_input_error(at, "medium \"nanovdb\": grid \"{}\" of {} does not hold floats",
+                          grid_name, path.string());
+    if (!grid->isFogVolume() && grid->gridClass() != nanovdb::GridClass::Unknown)
+        throw_input_error(at, "medium \"nanovdb\": grid \"{}\" of {} is not a fog volume",
+                          grid_name, path.string());
+    float lo = 0, hi = 0;
+    grid->tree().extrema(lo, hi);
+    if (!(lo >= 0) || !std::isfinite(hi))
+        throw_input_error(at,
+                          "medium \"nanovdb\": grid \"{}\" of {} has negative or non-finite "
+                          "densities",
+                          grid_name, path.string());
+    // pbrt-v4 makes a "temperature" grid glow as a blackbody, times "Lescale".
+    const std::string temperature = params.get_string("temperaturename", "temperature");
+    const float le_scale = params.get_float("Lescale", 1);
+    for (const char* name : {"temperatureoffset", "temperaturecutoff", "temperaturescale"})
+        if (params.has(name))
+            throw_input_error(params.find(name)->loc,
+                              "medium \"nanovdb\": blackbody emission from a temperature grid is "
+                              "not supported");
+    if (le_scale != 0 && read_grid(path.string(), temperature, at))
+        throw_input_error(at,
+                          "medium \"nanovdb\": {} has a \"{}\" grid, which pbrt-v4 makes glow as "
+                          "a blackbody; manylight does not support that emission: give "
+                          "\"float Lescale\" [ 0 ] to render the medium without it",
+                          path.string(), temperature);
+    const float scale = params.get_float("scale", 1);
+    const RGB sigma_a = params.get_rgb("sigma_a").value_or(RGB(1.f)) * scale,
+              sigma_s = params.get_rgb("sigma_s").value_or(RGB(1.f)) * scale;
+    for (const RGB& c : {sigma_a, sigma_s})
+        if (!(c.r >= 0 && c.g >= 0 && c.b >= 0) || !c.is_finite())
+            throw_input_error(loc,
+                              "medium \"nanovdb\": \"sigma_a\", \"sigma_s\" and \"scale\" "
+                              "must be finite and non-negative");
+    const float g = params.get_float("g", 0);
+    if (!(g > -1 && g < 1))
+        throw_input_error(loc, "medium: \"g\" must be in (-1, 1) (it is {})", g);
+    return std::make_unique<NanoVdbMedium>(medium_to_world, std::move(density), sigma_a, sigma_s, g,
+                                           hi);
+}
+
+}  // namespace ml
