@@ -120,6 +120,10 @@ TEST(PbrtReference, NanoVdbMediumByStochasticLightcuts) {
 // What the subsurface material renders: light walking through dense media inside rough
 // dielectric spheres (pbrt-v4's own subsurface material is a BSSRDF, another model).
 TEST(PbrtReference, DenseMediaInsideRoughDielectrics) { expect_matches_pbrt("media_walk"); }
+// Tangent-space normals from an image on a diffuse floor and a rough conductor sphere, by path
+// and through Lightcuts' bounds.
+TEST(PbrtReference, NormalMap) { expect_matches_pbrt("mat_normalmap"); }
+TEST(PbrtReference, NormalMapByLightcuts) { expect_matches_pbrt("mat_normalmap", "lightcuts"); }
 TEST(PbrtReference, GoniometricLight) { expect_matches_pbrt("light_goniometric"); }
 TEST(PbrtReference, ProjectionLight) { expect_matches_pbrt("light_projection"); }
 TEST(PbrtReference, AreaLightImage) { expect_matches_pbrt("light_area_image"); }

@@ -324,3 +324,44 @@ TEST_F(TextureTest, BumpMappingTiltsTheShadingNormal) {
     EXPECT_NEAR(f.n.z, 1.f, 1e-6f);
     EXPECT_NEAR(f.s.x, 1.f, 1e-6f);
 }
+
+TEST_F(TextureTest, ANormalMapSetsTheShadingNormalInTheTangentFrame) {
+    // One texel of (n + 1) / 2 with n = (0.6, 0, 0.8) in tangent space (x along dpdu, z the
+    // normal): the frame's normal is that direction in world space, turned to follow dpdu's
+    // direction and the geometric normal's side; the texel's other encodings follow suit.
+    auto frame_for = [&](const Vec3& n_tangent, const SurfaceInteraction& si) {
+        Image img(1, 1);
+        img.at(0, 0) = RGB((n_tangent.x + 1) / 2, (n_tangent.y + 1) / 2, (n_tangent.z + 1) / 2);
+        write_image((m_dir / "n.pfm").string(), img);
+        m_cache.images.clear();
+        ParameterList l = plist({str("normalmap", "n.pfm")});
+        ScratchBuffer scratch;
+        return create_material("diffuse", l, m_textures, {}, {}, &m_cache, m_dir.string())
+            ->get_bsdf(si, scratch)
+            .frame();
+    };
+    SurfaceInteraction si = flat_hit();
+    Frame f = frame_for(Vec3(0.6f, 0, 0.8f), si);
+    EXPECT_NEAR(f.n.x, 0.6f, 1e-3f);
+    EXPECT_NEAR(f.n.y, 0, 1e-3f);
+    EXPECT_NEAR(f.n.z, 0.8f, 1e-3f);
+    // dpdu along +y: the tangent's x is world y.
+    si.dpdu = Vec3(0, 1, 0);
+    si.dpdv = Vec3(-1, 0, 0);
+    f = frame_for(Vec3(0.6f, 0, 0.8f), si);
+    EXPECT_NEAR(f.n.x, 0, 1e-3f);
+    EXPECT_NEAR(f.n.y, 0.6f, 1e-3f);
+    // The map's y is the bitangent n x dpdu.
+    f = frame_for(Vec3(0, 0.6f, 0.8f), flat_hit());
+    EXPECT_NEAR(f.n.y, 0.6f, 1e-3f);
+    EXPECT_NEAR(f.n.z, 0.8f, 1e-3f);
+    // A normal below the surface is turned to the geometric normal's side.
+    EXPECT_GT(frame_for(Vec3(0.6f, 0, -0.8f), flat_hit()).n.z, 0);
+    // No shading normal of its own: refused.
+    ParameterList mix = plist({str("normalmap", "n.pfm")});
+    EXPECT_THROW(create_material("interface", mix, m_textures, {}, {}, &m_cache, m_dir.string()),
+                 InputError);
+    ParameterList missing = plist({str("normalmap", "none.png")});
+    EXPECT_THROW(create_material("diffuse", missing, m_textures, {}, {}, &m_cache, m_dir.string()),
+                 InputError);
+}

@@ -106,8 +106,6 @@ const FileLoc& loc_of(const ParameterList& params, const std::string& name, cons
 
 RGB named_or_die(const char* name) { return named_spectrum_rgb(name).value_or(RGB(1)); }
 
-}  // namespace
-
 // pbrt-v4's "subsurface": a dielectric boundary ("eta" 1.33, its roughness) over a homogeneous
 // medium given by a measured medium's "name", by "sigma_a" and "sigma_s", or pbrt-v4's default
 // (skim milk's coefficients, mm^-1), times "scale". pbrt-v4 shades it with a tabulated BSSRDF;
@@ -182,12 +180,11 @@ std::unique_ptr<Material> create_subsurface(const ParameterList& params, const M
     return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), std::move(displacement), m);
 }
 
-std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
-                                          const NamedTextures& textures, const FileLoc& loc,
-                                          const std::map<std::string, const Material*>& named) {
+// The material itself, before its normal map.
+std::unique_ptr<Material> create_material_of_type(
+    const std::string& type, const ParameterList& params, const NamedTextures& textures,
+    const FileLoc& loc, const std::map<std::string, const Material*>& named) {
     MaterialParams mp(params, textures);
-    if (params.has("normalmap"))
-        throw_input_error(loc_of(params, "normalmap", loc), "\"normalmap\" is not supported");
     auto displacement = mp.displacement();
 
     if (type == "diffuse") {
@@ -337,6 +334,28 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
     if (type == "measured")
         throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight", type);
     throw_input_error(loc, "unknown material type \"{}\"", type);
+}
+
+}  // namespace
+
+std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
+                                          const NamedTextures& textures, const FileLoc& loc,
+                                          const std::map<std::string, const Material*>& named,
+                                          ImageCache* images, const std::string& base_dir) {
+    auto material = create_material_of_type(type, params, textures, loc, named);
+    if (!params.has("normalmap")) return material;
+    const FileLoc& at = loc_of(params, "normalmap", loc);
+    const std::string filename = params.get_string("normalmap", "");
+    auto* base = dynamic_cast<MaterialBase*>(material.get());
+    if (!base)
+        throw_input_error(at,
+                          "\"normalmap\" on a \"{}\" material, which has no shading normal "
+                          "of its own",
+                          type);
+    if (!images) throw_input_error(at, "\"normalmap\" is not supported here");
+    base->set_normal_map(
+        std::make_shared<const ImageLookup>(normal_map_lookup(*images, base_dir, filename, at)));
+    return material;
 }
 
 }  // namespace ml

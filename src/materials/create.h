@@ -29,9 +29,12 @@ void create_texture(const std::string& name, const std::string& kind, const std:
 
 // `Material "type" params...` / `MakeNamedMaterial` with "string type". Throws InputError for an
 // unknown type or an undefined texture.
-// `named` holds the named materials defined so far ("mix" names two of them).
+// `named` holds the named materials defined so far ("mix" names two of them). A "normalmap" file
+// is read through `images`, relative to `base_dir` (without `images` it is refused).
 std::unique_ptr<Material> create_material(const std::string& type, const ParameterList& params,
                                           const NamedTextures& textures, const FileLoc& loc,
-                                          const std::map<std::string, const Material*>& named = {});
+                                          const std::map<std::string, const Material*>& named = {},
+                                          ImageCache* images = nullptr,
+                                          const std::string& base_dir = "");
 
 }  // namespace ml

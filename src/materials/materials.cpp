@@ -4,10 +4,22 @@
 #include "core/rng.h"
 #include "materials/bxdfs.h"
 #include "materials/fresnel.h"
+#include "materials/textures.h"
 
 namespace ml {
 
-Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displacement) {
+Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displacement,
+                    const ImageLookup* normal_map) {
+    if (normal_map) {
+        // pbrt-v4's NormalMap: the texel, 2c - 1, is a normal in the frame of the shading normal
+        // and dpdu; the new normal stays on the side of the geometric one.
+        const RGB c = normal_map->lookup({si.p, si.uv, si.ng});
+        Vec3 local(2 * c.r - 1, 2 * c.g - 1, 2 * c.b - 1);
+        const float l2 = length_squared(local);
+        if (!(l2 > 0) || !std::isfinite(l2)) return Frame::from_normal_tangent(si.ns, si.dpdu);
+        const Vec3 n = Frame::from_normal_tangent(si.ns, si.dpdu).to_world(local / std::sqrt(l2));
+        return Frame::from_normal_tangent(face_forward(normalize(n), si.ng), si.dpdu);
+    }
     if (!displacement) return Frame::from_normal_tangent(si.ns, si.dpdu);
     // Displace the surface along ns by d(u, v) and differentiate by finite differences.
     constexpr float kDelta = 0.0005f;

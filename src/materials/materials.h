@@ -11,6 +11,8 @@
 
 namespace ml {
 
+class ImageLookup;
+
 struct FloatParam {
     float value = 0;
     std::shared_ptr<FloatTexture> tex;
@@ -38,21 +40,28 @@ struct RoughnessParams {
 // The shading frame at a hit: from ns and dpdu, after bump mapping by `displacement` if any
 // (pbrt-v4's BumpMap without ray differentials: finite differences over du = dv = 0.0005, and
 // without the displacement * dn/du term, since meshes here carry no normal derivatives).
-Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displacement);
+Frame shading_frame(const SurfaceInteraction& si, const FloatTexture* displacement,
+                    const ImageLookup* normal_map = nullptr);
 
 class MaterialBase : public Material {
 public:
     explicit MaterialBase(std::shared_ptr<FloatTexture> displacement)
         : m_displacement(std::move(displacement)) {}
+    // pbrt-v4's "normalmap": tangent-space normals that replace the shading normal (and take
+    // precedence over "displacement").
+    void set_normal_map(std::shared_ptr<const ImageLookup> normal_map) {
+        m_normal_map = std::move(normal_map);
+    }
 
 protected:
     Frame frame(const SurfaceInteraction& si) const {
-        return shading_frame(si, m_displacement.get());
+        return shading_frame(si, m_displacement.get(), m_normal_map.get());
     }
     static TextureEvalContext context(const SurfaceInteraction& si) { return {si.p, si.uv, si.ng}; }
 
 private:
     std::shared_ptr<FloatTexture> m_displacement;
+    std::shared_ptr<const ImageLookup> m_normal_map;
 };
 
 class DiffuseMaterial final : public MaterialBase {

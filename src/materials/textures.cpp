@@ -254,6 +254,15 @@ ImageLookup make_image_lookup(const ParameterList& params, const Transform& to_w
 
 }  // namespace
 
+ImageLookup normal_map_lookup(ImageCache& images, const std::string& base_dir,
+                              const std::string& filename, const FileLoc& loc) {
+    const std::string path = resolve_path(filename, base_dir);
+    auto image = linear_image(images, path, Encoding{Encoding::Linear, 1}, loc);
+    if (image->width <= 0 || image->height <= 0)
+        throw_input_error(loc, "normal map \"{}\" is empty", path);
+    return ImageLookup(image, TextureMapping2D{}, WrapMode::Repeat, false);
+}
+
 void create_texture(const std::string& name, const std::string& kind, const std::string& cls,
                     const ParameterList& params, const std::string& base_dir,
                     NamedTextures& textures, ImageCache& images, const FileLoc& loc,

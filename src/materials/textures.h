@@ -106,6 +106,12 @@ private:
     bool m_point;
 };
 
+struct ImageCache;
+// pbrt-v4's "normalmap": the image of `filename` (relative to `base_dir`) read as linear values
+// (no sRGB decode, whatever the format), looked up at (u, v) bilinearly, repeating.
+ImageLookup normal_map_lookup(ImageCache& images, const std::string& base_dir,
+                              const std::string& filename, const FileLoc& loc);
+
 class ImageRGBTexture final : public RGBTexture {
 public:
     ImageRGBTexture(ImageLookup lookup, float scale, bool invert)

@@ -319,7 +319,8 @@ void SceneBuilder::apply_attributes(const char* target, ParameterList& params) c
 
 void SceneBuilder::material(const std::string& type, const ParameterList& params,
                             const FileLoc& loc) {
-    auto m = create_material(type, params, m_desc.textures, loc, m_named_materials);
+    auto m = create_material(type, params, m_desc.textures, loc, m_named_materials, &m_images,
+                             m_desc.base_dir);
     params.check_unused();
     m_state.material = m.get();
     m_desc.materials.push_back(std::move(m));
@@ -333,7 +334,8 @@ void SceneBuilder::make_named_material(const std::string& name, const ParameterL
     const Param* type = params.find("type");
     if (!type) throw_input_error(loc, "MakeNamedMaterial \"{}\": \"string type\" is missing", name);
     std::string t = params.get_string("type", "");
-    auto m = create_material(t, params, m_desc.textures, loc, m_named_materials);
+    auto m = create_material(t, params, m_desc.textures, loc, m_named_materials, &m_images,
+                             m_desc.base_dir);
     params.check_unused();
     m_named_materials[name] = m.get();
     m_desc.materials.push_back(std::move(m));

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Writes the small 8-bit PNG images of the light reference scenes (light_*.pbrt): pure Python,
-so that anyone can remake them. python3 make_light_images.py (in this folder)."""
+"""Writes the small 8-bit PNG images of the light reference scenes (light_*.pbrt) and the normal
+map of mat_normalmap.pbrt: pure Python, so that anyone can remake them.
+python3 make_light_images.py (in this folder)."""
 import math
 import struct
 import zlib
@@ -77,7 +78,26 @@ def sky(x, y):
     return (clamp(r), clamp(g), clamp(b))
 
 
+# Normal map: 64x64 tangent-space normals (r, g, b = (n + 1) / 2): a 4x4 grid of round bumps
+# leaning left and up (x and y both matter), and a ridge along the image's top rows, so that a
+# wrong axis, sign or the 1 - v flip shows.
+def normals(x, y):
+    u, v = (x + 0.5) / 64, (y + 0.5) / 64
+    cu, cv = (u * 4) % 1 - 0.5, (v * 4) % 1 - 0.5
+    r2 = cu * cu + cv * cv
+    nx = ny = 0.0
+    if r2 < 0.16:
+        h = math.sqrt(0.16 - r2)
+        nx, ny = 1.2 * cu / h if h > 0.05 else 0, -0.8 * cv / h if h > 0.05 else 0
+    if v < 0.12:
+        nx += 0.9
+    nz = 1.0
+    n = math.sqrt(nx * nx + ny * ny + nz * nz)
+    return tuple(clamp(255 * (c / n + 1) / 2) for c in (nx, ny, nz))
+
+
 write_png("light_goniometric.png", 32, 32, 1, gonio)
 write_png("light_projection.png", 24, 16, 3, slide)
 write_png("light_area_image.png", 16, 16, 3, emit)
 write_png("light_portal_sky.png", 32, 32, 3, sky)
+write_png("mat_normalmap.png", 64, 64, 3, normals)
