@@ -2,6 +2,9 @@
 // or refused with a clear "not supported" at its place in the file; a name pbrt-v4 lacks stays
 // an "unknown or unused" error. Also the Option directive and the spot light's old name.
 #include <gtest/gtest.h>
+#include <nanovdb/NanoVDB.h>
+#include <nanovdb/util/GridBuilder.h>
+#include <nanovdb/util/IO.h>
 
 #include <array>
 #include <filesystem>
@@ -56,6 +59,11 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
     } else if (d == "MakeNamedMedium" && t == "rgbgrid") {
         add("sigma_a", "\"rgb sigma_a\" [ 0.1 0.2 0.3  0.3 0.2 0.1 ]");
         add("nx", "\"integer nx\" [ 2 ]");
+    } else if (d == "MakeNamedMedium" && t == "nanovdb") {
+        add("filename", "\"string filename\" \"" + dir + "/smoke.nvdb\"");
+    } else if (d == "Material" && t == "subsurface" && (own == "sigma_a" || own == "sigma_s")) {
+        add("sigma_a", "\"rgb sigma_a\" [ 0.1 0.2 0.3 ]");
+        add("sigma_s", "\"rgb sigma_s\" [ 1 2 3 ]");
     } else if (d == "Material" && t == "mix") {
         add("materials", "\"string materials\" [ \"ma\" \"mb\" ]");
     } else if (d == "Shape" && t == "loopsubdiv") {
@@ -135,6 +143,12 @@ protected:
                                    m_dir.file("lens.dat"));
         m_dir.write("tri.ply",
                     ml::test::binary_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}));
+        // A NanoVDB fog volume of 4^3 voxels of density 1.
+        nanovdb::GridBuilder<float> builder(0.f, nanovdb::GridClass::FogVolume);
+        builder([](const nanovdb::Coord&) { return 1.f; },
+                nanovdb::CoordBBox(nanovdb::Coord(0), nanovdb::Coord(3)));
+        nanovdb::io::writeGrid(m_dir.file("smoke.nvdb"),
+                               builder.getHandle<>(0.25, nanovdb::Vec3d(-0.5), "density"));
     }
     ScratchDir m_dir;
 };
