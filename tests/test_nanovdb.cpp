@@ -53,13 +53,6 @@ Handle smoke_grid() {
     return builder.getHandle<>(voxel, nanovdb::Vec3d(-1, 0, -1), "density");
 }
 
-RenderOptions options(int spp) {
-    RenderOptions opt;
-    opt.spp = spp;
-    opt.seed = 3;
-    return opt;
-}
-
 }  // namespace
 
 TEST(NanoVdb, ACompressedOrPlainGridTransmitsAsBeersLaw) {
@@ -80,8 +73,11 @@ TEST(NanoVdb, ACompressedOrPlainGridTransmitsAsBeersLaw) {
             "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
             "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
             "  \"point3 P\" [ -5 -5 2  -5 5 2  5 5 2  5 -5 2 ]\n";
+        RenderOptions opt;
+        opt.spp = 256;
+        opt.seed = 3;
         const Image img =
-            render_scene(parse_scene_string(scene, dir.path(), "test.pbrt"), options(256)).image;
+            render_scene(parse_scene_string(scene, dir.path(), "test.pbrt"), opt).image;
         const double sigma[3] = {0.5, 1, 2};
         for (int c = 0; c < 3; ++c) {
             const ChannelStats s = channel_stats(img, c);
