@@ -675,3 +675,20 @@ TEST(Subsurface, WhatItCannotTakeSaysSo) {
         "Material \"mix\" \"string materials\" [ \"s\" \"d\" ]\n",
         4, 16, "the \"subsurface\" material \"s\" cannot be mixed");
 }
+
+TEST(Media, TheBlackbodyTableFollowsPlanckFromAHundredKelvin) {
+    // pbrt-v4's temperature emission, (T - offset) * scale kelvin: nothing at 100 K or below, and
+    // the table's interpolation within 0.5% of the direct evaluation in between.
+    const BlackbodyTable table(200, 1.5f, 0, 3000);
+    EXPECT_TRUE(table.at(266).is_black());  // 99 K
+    EXPECT_TRUE(table.at(-50).is_black());
+    for (float raw : {300.f, 1234.5f, 2000.f, 2999.f}) {
+        const RGB a = table.at(raw), b = blackbody_radiance_rgb((raw - 200) * 1.5f);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 0.005f * b.max_component()) << raw;
+    }
+    // Hotter is brighter and bluer.
+    const RGB warm = blackbody_radiance_rgb(2000), hot = blackbody_radiance_rgb(6000);
+    EXPECT_GT(warm.r, 4 * warm.b);
+    EXPECT_GT(hot.b / hot.r, warm.b / warm.r);
+    EXPECT_TRUE(BlackbodyTable(0, 1, 0, 90).empty());
+}

@@ -117,6 +117,8 @@ TEST(PbrtReference, NanoVdbMedium) { expect_matches_pbrt("media_nanovdb"); }
 TEST(PbrtReference, NanoVdbMediumByStochasticLightcuts) {
     expect_matches_pbrt("media_nanovdb", "stochasticlightcuts", 64);
 }
+// Media glowing by temperature: a NanoVDB "temperature" grid and a uniformgrid's temperatures.
+TEST(PbrtReference, MediaGlowingByTemperature) { expect_matches_pbrt("media_fire"); }
 // What the subsurface material renders: light walking through dense media inside rough
 // dielectric spheres (pbrt-v4's own subsurface material is a BSSRDF, another model).
 TEST(PbrtReference, DenseMediaInsideRoughDielectrics) { expect_matches_pbrt("media_walk"); }

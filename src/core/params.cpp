@@ -240,19 +240,25 @@ std::optional<RGB> named_spectrum_rgb(const std::string& name) {
     return it->second;
 }
 
-RGB blackbody_rgb(float kelvin) {
-    // Planck's law integrated against CIE 1931 matching functions (Wyman et al. 2013 fits),
-    // converted to linear sRGB and normalised.
+namespace {
+
+// Planck's law: spectral radiance of a blackbody at `kelvin`, wavelength in nm.
+double planck(double lambda_nm, double kelvin) {
+    const double l = lambda_nm * 1e-9, c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;
+    return (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
+}
+
+// Linear sRGB of a spectrum: integrated over 360-830 nm (per nm) against the CIE 1931 matching
+// functions (Wyman et al. 2013 fits), as pbrt-v4's film does (a flat spectrum of 1 has Y = 106.9).
+template <class F>
+RGB spectrum_srgb(const F& spectrum) {
     auto g = [](float x, float mu, float s1, float s2) {
         float t = (x - mu) / (x < mu ? s1 : s2);
         return std::exp(-0.5f * t * t);
     };
     double X = 0, Y = 0, Z = 0;
     for (float lambda = 360; lambda <= 830; lambda += 1) {
-        double l = lambda * 1e-9;
-        double c = 299792458.0, h = 6.62606957e-34, kb = 1.3806488e-23;
-        double le =
-            (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
+        const double le = spectrum(lambda);
         float x = 1.056f * g(lambda, 599.8f, 37.9f, 31.0f) +
                   0.362f * g(lambda, 442.0f, 16.0f, 26.7f) -
                   0.065f * g(lambda, 501.1f, 20.4f, 26.2f);
@@ -262,12 +268,24 @@ RGB blackbody_rgb(float kelvin) {
             1.217f * g(lambda, 437.0f, 11.8f, 36.0f) + 0.681f * g(lambda, 459.0f, 26.0f, 13.8f);
         X += le * x, Y += le * y, Z += le * z;
     }
-    RGB rgb(float(3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z),
-            float(-0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z),
-            float(0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z));
-    rgb = clamp_zero(rgb);
+    return RGB(float(3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z),
+               float(-0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z),
+               float(0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z));
+}
+
+}  // namespace
+
+RGB blackbody_rgb(float kelvin) {
+    RGB rgb = clamp_zero(spectrum_srgb([&](double l) { return planck(l, kelvin); }));
     float m = rgb.max_component();
     return m > 0 ? rgb / m : RGB();
+}
+
+RGB blackbody_radiance_rgb(float kelvin) {
+    if (!(kelvin > 0)) return RGB();
+    // pbrt-v4's BlackbodySpectrum: Planck's law over its value at the peak (Wien's law).
+    const double peak = planck(2.8977721e-3 / kelvin * 1e9, kelvin);
+    return clamp_zero(spectrum_srgb([&](double l) { return planck(l, kelvin) / peak; }));
 }
 
 }  // namespace ml

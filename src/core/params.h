@@ -75,5 +75,8 @@ private:
 std::optional<RGB> named_spectrum_rgb(const std::string& name);
 // Linear sRGB colour of a blackbody at `kelvin`, normalised to a maximum component of 1.
 RGB blackbody_rgb(float kelvin);
+// pbrt-v4's BlackbodySpectrum (Planck's law divided by its peak value) as linear sRGB, negative
+// channels clamped to 0: the emission of a medium's "temperature".
+RGB blackbody_radiance_rgb(float kelvin);
 
 }  // namespace ml

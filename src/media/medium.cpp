@@ -52,6 +52,24 @@ std::optional<MajorantSegment> box_majorant(const Transform& world_to_medium, co
     return MajorantSegment{t0, t1, sigma_maj};
 }
 
+BlackbodyTable::BlackbodyTable(float offset, float scale, float raw_min, float raw_max)
+    : m_offset(offset), m_scale(scale) {
+    const float hottest = std::max((raw_min - offset) * scale, (raw_max - offset) * scale);
+    if (!(hottest > 100) || !std::isfinite(hottest)) return;
+    const size_t n = size_t(std::ceil((hottest - 100) / 10)) + 2;
+    m_rgb.resize(n);
+    for (size_t i = 0; i < n; ++i) m_rgb[i] = blackbody_radiance_rgb(100 + 10 * float(i));
+}
+
+RGB BlackbodyTable::at(float raw) const {
+    const float k = (raw - m_offset) * m_scale;
+    if (!(k > 100) || m_rgb.empty()) return RGB();
+    const float x = std::min((k - 100) / 10, float(m_rgb.size() - 1));
+    const size_t i = std::min(size_t(x), m_rgb.size() - 2);
+    const float t = x - float(i);
+    return m_rgb[i] * (1 - t) + m_rgb[i + 1] * t;
+}
+
 namespace {
 
 // The spectra of pbrt-v4's media as RGB: an "rgb" or "spectrum" value (unbounded: no clamp).
@@ -147,19 +165,23 @@ float max_of(const std::vector<float>& v) {
 }
 
 // pbrt-v4's "uniformgrid": sigma_a and sigma_s scaled by a density grid over the box [p0, p1]
-// of medium space; emission Le scaled by "Lescale" (one value, or a grid of the density's size).
+// of medium space; emission Le, or a blackbody at a grid of temperatures, scaled by "Lescale"
+// (one value, or a grid of the density's size).
 class GridMedium final : public BoxMedium {
 public:
     GridMedium(const Transform& medium_to_world, const Vec3& p0, const Vec3& p1,
                Grid<float> density, const RGB& sigma_a, const RGB& sigma_s, const RGB& Le,
-               Grid<float> le_scale, float g)
+               Grid<float> le_scale, float g, Grid<float> temperature = {},
+               BlackbodyTable blackbody = {})
         : BoxMedium(medium_to_world, p0, p1, g),
           m_density(std::move(density)),
           m_sigma_a(sigma_a),
           m_sigma_s(sigma_s),
           m_Le(Le),
-          m_le_scale(std::move(le_scale)) {
-        m_emits = !Le.is_black() && !sigma_a.is_black();
+          m_le_scale(std::move(le_scale)),
+          m_temperature(std::move(temperature)),
+          m_blackbody(std::move(blackbody)) {
+        m_emits = (!Le.is_black() || !m_blackbody.empty()) && !sigma_a.is_black();
         m_sigma_maj = max_of(m_density.values()) * (sigma_a + sigma_s).max_component();
     }
     std::string type() const override { return "uniformgrid"; }
@@ -168,12 +190,17 @@ private:
     MediumProperties at_unit(const Vec3& u) const override {
         const float d = m_density.lookup(u);
         MediumProperties props{m_sigma_a * d, m_sigma_s * d, RGB()};
-        if (m_emits) props.Le = m_Le * m_le_scale.lookup(u);
+        if (!m_emits) return props;
+        const float scale = m_le_scale.lookup(u);
+        if (!(scale > 0)) return props;
+        props.Le = (m_temperature.empty() ? m_Le : m_blackbody.at(m_temperature.lookup(u))) * scale;
         return props;
     }
     Grid<float> m_density;
     RGB m_sigma_a, m_sigma_s, m_Le;
     Grid<float> m_le_scale;
+    Grid<float> m_temperature;
+    BlackbodyTable m_blackbody;
 };
 
 // pbrt-v4's "rgbgrid": sigma_a and sigma_s each an RGB grid (a missing one is 1 everywhere),
@@ -382,11 +409,6 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
         const float le_scale = params.get_float("Lescale", 1);
         return std::make_unique<HomogeneousMedium>(sigma_a, sigma_s, Le * le_scale, g);
     }
-    if (params.has("temperature") || params.has("temperatureoffset") ||
-        params.has("temperaturecutoff") || params.has("temperaturescale"))
-        throw_input_error(loc,
-                          "medium \"uniformgrid\": blackbody emission by \"temperature\" is not "
-                          "supported yet: give \"Le\"");
     const std::vector<float> density = params.get_floats("density");
     const int nx = params.get_int("nx", 1), ny = params.get_int("ny", 1),
               nz = params.get_int("nz", 1);
@@ -411,9 +433,30 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
                               le_scale.size(), density.size());
         le_grid = Grid<float>(le_scale, nx, ny, nz);
     }
+    // Emission from a blackbody at each cell's temperature (not with "Le").
+    const std::vector<float> temperature = params.get_floats("temperature");
+    const float offset =
+                    params.get_float("temperatureoffset", params.get_float("temperaturecutoff", 0)),
+                t_scale = params.get_float("temperaturescale", 1);
+    Grid<float> t_grid;
+    BlackbodyTable blackbody;
+    if (!temperature.empty()) {
+        if (params.has("Le"))
+            throw_input_error(params.find("Le")->loc,
+                              "medium \"uniformgrid\": both \"Le\" and \"temperature\" given");
+        if (temperature.size() != density.size())
+            throw_input_error(params.find("temperature")->loc,
+                              "medium \"uniformgrid\": {} \"temperature\" values where the "
+                              "density has {}",
+                              temperature.size(), density.size());
+        const auto [lo, hi] = std::minmax_element(temperature.begin(), temperature.end());
+        blackbody = BlackbodyTable(offset, t_scale, *lo, *hi);
+        t_grid = Grid<float>(temperature, nx, ny, nz);
+    }
     const auto [p0, p1] = grid_box(params, "uniformgrid", loc);
     return std::make_unique<GridMedium>(medium_to_world, p0, p1, Grid<float>(density, nx, ny, nz),
-                                        sigma_a, sigma_s, Le, std::move(le_grid), g);
+                                        sigma_a, sigma_s, Le, std::move(le_grid), g,
+                                        std::move(t_grid), std::move(blackbody));
 }
 
 std::unique_ptr<Medium> make_homogeneous_medium(const RGB& sigma_a, const RGB& sigma_s, float g) {

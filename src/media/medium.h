@@ -63,6 +63,20 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
                                       const Transform& medium_to_world, const std::string& base_dir,
                                       const FileLoc& loc);
 
+// pbrt-v4's emission by temperature: blackbody_radiance_rgb((T - offset) * scale), none at 100 K
+// or below, tabulated every 10 K over the range the given raw temperatures reach.
+class BlackbodyTable {
+public:
+    BlackbodyTable() = default;
+    BlackbodyTable(float offset, float scale, float raw_min, float raw_max);
+    RGB at(float raw) const;
+    bool empty() const { return m_rgb.empty(); }
+
+private:
+    float m_offset = 0, m_scale = 1;
+    std::vector<RGB> m_rgb;  // at 100 K, 110 K, ...
+};
+
 // The part of `ray` in [0, tmax) inside the box [p0, p1] of medium space, with one majorant for
 // all of it; nullopt where it misses the box.
 std::optional<MajorantSegment> box_majorant(const Transform& world_to_medium, const Vec3& p0,

@@ -18,14 +18,24 @@ using GridHandle = nanovdb::GridHandle<nanovdb::HostBuffer>;
 class NanoVdbMedium final : public Medium {
 public:
     NanoVdbMedium(const Transform& medium_to_world, GridHandle handle, const RGB& sigma_a,
-                  const RGB& sigma_s, float g, float max_density)
+                  const RGB& sigma_s, float g, float max_density, GridHandle temperature,
+                  BlackbodyTable blackbody, float le_scale)
         : m_world_to_medium(medium_to_world.inverse()),
           m_handle(std::move(handle)),
           m_grid(m_handle.grid<float>()),
+          m_temperature_handle(std::move(temperature)),
+          m_temperature(m_temperature_handle ? m_temperature_handle.grid<float>() : nullptr),
+          m_blackbody(std::move(blackbody)),
+          m_le_scale(le_scale),
           m_sigma_a(sigma_a),
           m_sigma_s(sigma_s) {
         m_g = g;
-        const auto box = m_grid->worldBBox();
+        m_emits = m_temperature && !m_blackbody.empty() && le_scale > 0 && !sigma_a.is_black();
+        auto box = m_grid->worldBBox();
+        if (m_emits) {  // pbrt-v4: the union of both grids' bounds
+            box.expand(m_temperature->worldBBox().min());
+            box.expand(m_temperature->worldBBox().max());
+        }
         m_p0 = Vec3(float(box.min()[0]), float(box.min()[1]), float(box.min()[2]));
         m_p1 = Vec3(float(box.max()[0]), float(box.max()[1]), float(box.max()[2]));
         // Trilinear interpolation stays within the voxels' values (the background is 0).
@@ -33,10 +43,10 @@ public:
     }
     MediumProperties at(const Vec3& p_world) const override {
         const Vec3 p = m_world_to_medium.point(p_world);
-        const nanovdb::Vec3f index = m_grid->worldToIndexF(nanovdb::Vec3f(p.x, p.y, p.z));
-        using Sampler = nanovdb::SampleFromVoxels<nanovdb::FloatGrid::TreeType, 1, false>;
-        const float d = Sampler(m_grid->tree())(index);
-        return {m_sigma_a * d, m_sigma_s * d, RGB()};
+        const float d = lookup(*m_grid, p);
+        MediumProperties props{m_sigma_a * d, m_sigma_s * d, RGB()};
+        if (m_emits) props.Le = m_blackbody.at(lookup(*m_temperature, p)) * m_le_scale;
+        return props;
     }
     std::optional<MajorantSegment> majorant(const Ray& ray, float tmax) const override {
         return box_majorant(m_world_to_medium, m_p0, m_p1, m_sigma_maj, ray, tmax);
@@ -45,9 +55,19 @@ public:
     std::string type() const override { return "nanovdb"; }
 
 private:
+    // The grid's value at medium-space point p, trilinear in index space.
+    static float lookup(const nanovdb::FloatGrid& grid, const Vec3& p) {
+        const nanovdb::Vec3f index = grid.worldToIndexF(nanovdb::Vec3f(p.x, p.y, p.z));
+        using Sampler = nanovdb::SampleFromVoxels<nanovdb::FloatGrid::TreeType, 1, false>;
+        return Sampler(grid.tree())(index);
+    }
     Transform m_world_to_medium;
     GridHandle m_handle;
     const nanovdb::FloatGrid* m_grid;
+    GridHandle m_temperature_handle;
+    const nanovdb::FloatGrid* m_temperature;
+    BlackbodyTable m_blackbody;
+    float m_le_scale;
     RGB m_sigma_a, m_sigma_s;
     Vec3 m_p0, m_p1;  // the grid's bounds in medium space
     float m_sigma_maj = 0;
@@ -96,17 +116,22 @@ std::unique_ptr<Medium> create_nanovdb_medium(const ParameterList& params,
     // pbrt-v4 makes a "temperature" grid glow as a blackbody, times "Lescale".
     const std::string temperature = params.get_string("temperaturename", "temperature");
     const float le_scale = params.get_float("Lescale", 1);
-    for (const char* name : {"temperatureoffset", "temperaturecutoff", "temperaturescale"})
-        if (params.has(name))
-            throw_input_error(params.find(name)->loc,
-                              "medium \"nanovdb\": blackbody emission from a temperature grid is "
-                              "not supported");
-    if (le_scale != 0 && read_grid(path.string(), temperature, at))
-        throw_input_error(at,
-                          "medium \"nanovdb\": {} has a \"{}\" grid, which pbrt-v4 makes glow as "
-                          "a blackbody; manylight does not support that emission: give "
-                          "\"float Lescale\" [ 0 ] to render the medium without it",
-                          path.string(), temperature);
+    const float offset =
+                    params.get_float("temperatureoffset", params.get_float("temperaturecutoff", 0)),
+                t_scale = params.get_float("temperaturescale", 1);
+    if (!(le_scale >= 0) || !std::isfinite(le_scale))
+        throw_input_error(loc, "medium \"nanovdb\": \"Lescale\" must be >= 0");
+    GridHandle t_handle = read_grid(path.string(), temperature, at);
+    BlackbodyTable blackbody;
+    if (t_handle) {
+        const nanovdb::FloatGrid* t = t_handle.grid<float>();
+        if (!t)
+            throw_input_error(at, "medium \"nanovdb\": grid \"{}\" of {} does not hold floats",
+                              temperature, path.string());
+        float t_lo = 0, t_hi = 0;
+        t->tree().extrema(t_lo, t_hi);
+        blackbody = BlackbodyTable(offset, t_scale, std::min(t_lo, 0.f), t_hi);
+    }
     const float scale = params.get_float("scale", 1);
     const RGB sigma_a = params.get_rgb("sigma_a").value_or(RGB(1.f)) * scale,
               sigma_s = params.get_rgb("sigma_s").value_or(RGB(1.f)) * scale;
@@ -119,7 +144,7 @@ std::unique_ptr<Medium> create_nanovdb_medium(const ParameterList& params,
     if (!(g > -1 && g < 1))
         throw_input_error(loc, "medium: \"g\" must be in (-1, 1) (it is {})", g);
     return std::make_unique<NanoVdbMedium>(medium_to_world, std::move(density), sigma_a, sigma_s, g,
-                                           hi);
+                                           hi, std::move(t_handle), std::move(blackbody), le_scale);
 }
 
 }  // namespace ml

@@ -12,7 +12,8 @@ namespace ml {
 
 // `MakeNamedMedium ... "string type" "nanovdb" "string filename" "f.nvdb"`: the float grid named
 // "gridname" (default "density"), medium space to world `medium_to_world`; a relative filename is
-// read from `base_dir`. Blackbody emission from a "temperature" grid is refused.
+// read from `base_dir`; a "temperature" grid glows as a blackbody times "Lescale", as pbrt-v4
+// makes it.
 std::unique_ptr<Medium> create_nanovdb_medium(const ParameterList& params,
                                               const Transform& medium_to_world,
                                               const std::string& base_dir, const FileLoc& loc);

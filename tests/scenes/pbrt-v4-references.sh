@@ -12,7 +12,7 @@ names=("$@")
   camera_equalarea tex_bilerp tex_dots tex_fbm tex_wrinkled tex_windy tex_marble tex_mix
   tex_directionmix mat_thindielectric mat_mix shape_cylinder media_fog media_grid
   light_goniometric light_projection light_area_image mat_coateddiffuse mat_coatedconductor
-  mat_coatedconductor_depth2 mat_interface media_cloud media_walk media_nanovdb mat_normalmap
+  mat_coatedconductor_depth2 mat_interface media_cloud media_walk media_nanovdb mat_normalmap media_fire
   shape_curve mat_hair camera_realistic
   camera_realistic_star shape_loopsubdiv film_crop light_alpha light_portal)
 for n in "${names[@]}"; do
