@@ -11,6 +11,7 @@
 #include "core/rng.h"
 #include "integrators/render_job.h"
 #include "lights/lights.h"
+#include "parser_test_helpers.h"
 #include "sampling/warps.h"
 #include "sampling/windowed_distribution.h"
 #include "scene/scene_desc.h"
@@ -210,4 +211,18 @@ TEST(PortalLight, ManyLightIntegratorsRefuseWhatTheirPointLightsMiss) {
                     << e.what();
             }
         }
+}
+
+TEST(PortalLight, APortalThatIsNoRectangleIsAnErrorAtItsPlace) {
+    // Corners out of order, one repeated, one past float's range (found by fuzzing: the edges
+    // came out NaN and passed the test).
+    for (const char* corners :
+         {"-1 0 0  1 0 0  -1 0 1  1 0 1", "-1 0 0  -1 0 0  1 0 1  -1 0 1",
+          "-1 0 0  1 0 0  1 0 1  -1 1222222222222222222222222222222222222222222222 1"}) {
+        SCOPED_TRACE(corners);
+        ml::test::expect_scene_error(
+            std::string("WorldBegin\nLightSource \"infinite\" \"point3 portal\" [ ") + corners +
+                " ]\n",
+            2, 24, "the \"portal\" is not a rectangle");
+    }
 }

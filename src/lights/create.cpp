@@ -135,12 +135,15 @@ std::unique_ptr<Light> create_infinite(const ParameterList& params, const Transf
         if (c.size() != 4)
             throw_input_error(p->loc, "infinite light: \"portal\" needs 4 points, got {}",
                               c.size());
-        // pbrt-v4's test: opposite edges parallel, corners square (to 0.001).
+        // pbrt-v4's test: opposite edges parallel, corners square (to 0.001). Written so that a
+        // corner out of float range or a repeated corner (NaN edges) fails it too.
         Vec3 e01 = normalize(c[1] - c[0]), e12 = normalize(c[2] - c[1]);
         Vec3 e32 = normalize(c[2] - c[3]), e03 = normalize(c[3] - c[0]);
-        if (std::abs(dot(e01, e32) - 1) > 1e-3f || std::abs(dot(e12, e03) - 1) > 1e-3f ||
-            std::abs(dot(e01, e12)) > 1e-3f || std::abs(dot(e12, e32)) > 1e-3f ||
-            std::abs(dot(e32, e03)) > 1e-3f || std::abs(dot(e03, e01)) > 1e-3f)
+        const bool rectangle =
+            std::abs(dot(e01, e32) - 1) <= 1e-3f && std::abs(dot(e12, e03) - 1) <= 1e-3f &&
+            std::abs(dot(e01, e12)) <= 1e-3f && std::abs(dot(e12, e32)) <= 1e-3f &&
+            std::abs(dot(e32, e03)) <= 1e-3f && std::abs(dot(e03, e01)) <= 1e-3f;
+        if (!rectangle)
             throw_input_error(p->loc,
                               "infinite light: the \"portal\" is not a rectangle (its corners "
                               "go around it in order)");
