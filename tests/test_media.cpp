@@ -691,4 +691,9 @@ TEST(Media, TheBlackbodyTableFollowsPlanckFromAHundredKelvin) {
     EXPECT_GT(warm.r, 4 * warm.b);
     EXPECT_GT(hot.b / hot.r, warm.b / warm.r);
     EXPECT_TRUE(BlackbodyTable(0, 1, 0, 90).empty());
+    // A temperature past float's range neither fills memory nor stops glowing past the table.
+    const BlackbodyTable huge(0, 1, 0, 1e30f);
+    const RGB far = huge.at(2e5f), direct = blackbody_radiance_rgb(2e5f);
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(far[c], direct[c]);
+    EXPECT_GT(far.b, 0);
 }

@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "core/scattering_presets.h"
-
 #include "materials/hair.h"
 #include "materials/materials.h"
 #include "materials/textures.h"
@@ -175,8 +174,7 @@ std::unique_ptr<Material> create_subsurface(const ParameterList& params, const M
     const FloatParam eta = mp.get_float("eta", 1.33f);
     if (eta.tex)
         throw_input_error(loc_of(params, "eta", loc),
-                          "subsurface: a textured \"eta\" is not "
-                          "supported");
+                          "subsurface: a textured \"eta\" is not supported");
     return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), std::move(displacement), m);
 }
 

@@ -55,8 +55,9 @@ std::optional<MajorantSegment> box_majorant(const Transform& world_to_medium, co
 BlackbodyTable::BlackbodyTable(float offset, float scale, float raw_min, float raw_max)
     : m_offset(offset), m_scale(scale) {
     const float hottest = std::max((raw_min - offset) * scale, (raw_max - offset) * scale);
-    if (!(hottest > 100) || !std::isfinite(hottest)) return;
-    const size_t n = size_t(std::ceil((hottest - 100) / 10)) + 2;
+    if (!(hottest > 100)) return;
+    // Hotter than the table (rare: a hundred thousand kelvin) is evaluated directly.
+    const size_t n = size_t(std::ceil((std::min(hottest, kTableTop) - 100) / 10)) + 2;
     m_rgb.resize(n);
     for (size_t i = 0; i < n; ++i) m_rgb[i] = blackbody_radiance_rgb(100 + 10 * float(i));
 }
@@ -64,6 +65,7 @@ BlackbodyTable::BlackbodyTable(float offset, float scale, float raw_min, float r
 RGB BlackbodyTable::at(float raw) const {
     const float k = (raw - m_offset) * m_scale;
     if (!(k > 100) || m_rgb.empty()) return RGB();
+    if (k > kTableTop) return blackbody_radiance_rgb(k);
     const float x = std::min((k - 100) / 10, float(m_rgb.size() - 1));
     const size_t i = std::min(size_t(x), m_rgb.size() - 2);
     const float t = x - float(i);

@@ -64,7 +64,8 @@ std::unique_ptr<Medium> create_medium(const std::string& type, const ParameterLi
                                       const FileLoc& loc);
 
 // pbrt-v4's emission by temperature: blackbody_radiance_rgb((T - offset) * scale), none at 100 K
-// or below, tabulated every 10 K over the range the given raw temperatures reach.
+// or below, tabulated every 10 K over the range the given raw temperatures reach, up to 100000 K
+// (evaluated directly above).
 class BlackbodyTable {
 public:
     BlackbodyTable() = default;
@@ -73,6 +74,7 @@ public:
     bool empty() const { return m_rgb.empty(); }
 
 private:
+    static constexpr float kTableTop = 1e5f;
     float m_offset = 0, m_scale = 1;
     std::vector<RGB> m_rgb;  // at 100 K, 110 K, ...
 };
