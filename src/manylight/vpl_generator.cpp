@@ -344,7 +344,16 @@ void append_scaled_vpl(const PointLight& pl, const std::vector<VplSurface>& surf
 }
 
 void append_vpls(std::vector<VplChunk>& chunks, size_t count, float scale, PointLightSet& set) {
+    // Both vectors sized once: grown by doubling, the old and new buffers would be held together
+    // at up to three times the surfaces' size, more than the memory check counts.
+    size_t surfaces = 0;
+    for (size_t left = count, c = 0; left > 0 && c < chunks.size(); ++c) {
+        const size_t take = std::min(left, chunks[c].lights.size());
+        for (size_t i = 0; i < take; ++i) surfaces += chunks[c].lights[i].surface >= 0;
+        left -= take;
+    }
     set.lights.reserve(set.lights.size() + count);
+    set.surfaces.reserve(set.surfaces.size() + surfaces);
     size_t left = count;
     for (VplChunk& ch : chunks) {
         if (left == 0) break;
@@ -352,6 +361,9 @@ void append_vpls(std::vector<VplChunk>& chunks, size_t count, float scale, Point
         for (size_t i = 0; i < take; ++i)
             append_scaled_vpl(ch.lights[i], ch.surfaces, scale, set.lights, set.surfaces);
         if (ch.arena) set.arenas.push_back(std::move(ch.arena));
+        // Copied: the chunk's lights and surfaces are released as the set's grow.
+        std::vector<PointLight>().swap(ch.lights);
+        std::vector<VplSurface>().swap(ch.surfaces);
         left -= take;
     }
     set.vpls += count;

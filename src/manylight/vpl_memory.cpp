@@ -6,13 +6,20 @@
 
 #include "core/error.h"
 #include "core/memory.h"
+#include "manylight/phase_bxdf.h"
+#include "materials/bxdfs.h"
+#include "materials/hair.h"
 
 namespace ml {
 
 namespace {
-// A Bxdf in the set's arenas: the largest today is 40 bytes; with the arena's alignment and
-// blocks' slack, at most this.
-constexpr size_t kBxdfBytes = 64;
+// A Bxdf in the set's arenas, the largest kind, with the alignment and, where a chunk's arena is
+// full and it is allocated on its own, the allocator's header and the arena's pointer to it.
+constexpr size_t kBxdfBytes =
+    std::max({sizeof(DiffuseBxdf), sizeof(DiffuseTransmissionBxdf), sizeof(ConductorBxdf),
+              sizeof(DielectricBxdf), sizeof(ThinDielectricBxdf), sizeof(CoatedDiffuseBxdf),
+              sizeof(CoatedConductorBxdf), sizeof(HairBxdf), sizeof(PhaseBxdf)}) +
+    alignof(std::max_align_t) + 16 + 2 * sizeof(void*);
 }  // namespace
 
 size_t point_light_peak_bytes(int reps, bool surfaces) {
