@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 #include "film/image.h"
 #include "film/image_metrics.h"
@@ -21,8 +22,9 @@ namespace {
 const std::string kScenes = MANYLIGHT_SOURCE_DIR "/tests/scenes/";
 
 // `integrator`: ours instead of the scene's (the same image by another estimator); `spp`: instead
-// of the scene's.
-void expect_matches_pbrt(const std::string& name, const std::string& integrator = "", int spp = 0) {
+// of the scene's; `set`: settings (--set).
+void expect_matches_pbrt(const std::string& name, const std::string& integrator = "", int spp = 0,
+                         const std::map<std::string, std::string>& set = {}) {
     SCOPED_TRACE(name + (integrator.empty() ? "" : " by " + integrator));
     const std::string ref_path = kScenes + name + ".exr";
     // A scene whose reference has not been rendered yet is skipped, by name (the references
@@ -36,6 +38,7 @@ void expect_matches_pbrt(const std::string& name, const std::string& integrator 
     opt.seed = 7;
     opt.integrator = integrator;
     if (spp > 0) opt.spp = spp;
+    opt.set = set;
     Image img = render_scene(parse_scene_file(kScenes + name + ".pbrt"), opt).image;
     ASSERT_EQ(img.width, ref.width);
     ASSERT_EQ(img.height, ref.height);
@@ -149,13 +152,22 @@ TEST(PbrtReference, FilmCropWindowByLightTracing) {
 TEST(PbrtReference, FilmCropWindowByBdpt) { expect_matches_pbrt("film_crop", "bdpt"); }
 TEST(PbrtReference, FilmCropWindowByLightcuts) { expect_matches_pbrt("film_crop", "lightcuts"); }
 // Alpha on an emitting shape: its emission masked where the cut-out removes it, seen by camera
-// rays and sampled by path, and in light paths (lighttracer). (lightcuts is still +5.6% here:
-// docs/scene-format-coverage.md.)
+// rays and sampled by path, and in light paths (lighttracer); by lightcuts, with the light
+// sampled and as point lights on the squares that are left.
 TEST(PbrtReference, AlphaOnAnAreaLight) { expect_matches_pbrt("light_alpha"); }
 TEST(PbrtReference, AlphaOnAnAreaLightByLightTracing) {
     expect_matches_pbrt("light_alpha", "lighttracer");
 }
+TEST(PbrtReference, AlphaOnAnAreaLightByLightcuts) {
+    expect_matches_pbrt("light_alpha", "lightcuts");
+    expect_matches_pbrt("light_alpha", "lightcuts", 0, {{"lights.direct", "points"}});
+}
+// igi at max depth 1: no VPLs (their light would be a second bounce; igi made them, +5.6% here).
+TEST(PbrtReference, AlphaOnAnAreaLightByIgi) { expect_matches_pbrt("light_alpha", "igi"); }
 // The infinite light's portal: the sky seen and sampled only through a window of a closed room,
-// by path. (lightcuts, with directional point lights drawn from the rectified image, is still
-// off here: docs/scene-format-coverage.md.)
+// by path; by lightcuts, sampled and as directional point lights drawn from the rectified image.
 TEST(PbrtReference, PortalInfiniteLight) { expect_matches_pbrt("light_portal"); }
+TEST(PbrtReference, PortalInfiniteLightByLightcuts) {
+    expect_matches_pbrt("light_portal", "lightcuts");
+    expect_matches_pbrt("light_portal", "lightcuts", 0, {{"lights.direct", "points"}});
+}

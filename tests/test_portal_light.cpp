@@ -9,12 +9,10 @@
 
 #include "chi2.h"
 #include "core/rng.h"
-#include "integrators/render_job.h"
 #include "lights/lights.h"
 #include "parser_test_helpers.h"
 #include "sampling/warps.h"
 #include "sampling/windowed_distribution.h"
-#include "scene/scene_desc.h"
 
 namespace ml {
 namespace {
@@ -186,32 +184,6 @@ TEST(PortalLight, SampleLeFollowsPdfLe) {
 }
 
 }  // namespace ml
-
-TEST(PortalLight, ManyLightIntegratorsRefuseWhatTheirPointLightsMiss) {
-    // The portal's directional point lights come from the whole sky, and the point lights of a
-    // cut-out emitter miss its mask: lightcuts was 3% to 11% bright against pbrt-v4 on these two
-    // scenes, so every many-light integrator refuses them and names the ones that render them.
-    for (const char* scene : {"light_portal.pbrt", "light_alpha.pbrt"})
-        for (const char* integrator : {"lightcuts", "bdlightcuts", "vpl", "igi"}) {
-            SCOPED_TRACE(std::string(scene) + " by " + integrator);
-            ml::RenderOptions opt;
-            opt.progress = false;
-            opt.spp = 1;
-            opt.width = 8;
-            opt.height = 8;
-            opt.integrator = integrator;
-            try {
-                ml::render_scene(ml::parse_scene_file(MANYLIGHT_SOURCE_DIR "/tests/scenes/" +
-                                                      std::string(scene)),
-                                 opt);
-                ADD_FAILURE() << "rendered";
-            } catch (const ml::UsageError& e) {
-                EXPECT_NE(std::string(e.what()).find("the many-light integrators do not render"),
-                          std::string::npos)
-                    << e.what();
-            }
-        }
-}
 
 TEST(PortalLight, APortalThatIsNoRectangleIsAnErrorAtItsPlace) {
     // Corners out of order, one repeated, one past float's range (found by fuzzing: the edges

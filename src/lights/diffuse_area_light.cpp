@@ -218,9 +218,6 @@ private:
     // uv): pbrt-v4's test, which hashes the point (so a fractional alpha a lets a of the
     // surface emit, and a ray that hit it, kept with probability a by the ray's own test, sees
     // its emission with probability a again, as in pbrt-v4).
-    std::string point_lights_miss() const override {
-        return m_mesh->alpha ? "an emitting shape with \"alpha\"" : std::string();
-    }
     bool masked(const Vec3& p, const Vec3& n, const Vec2& uv) const {
         return m_mesh->alpha && !alpha_keeps(m_mesh->alpha->eval(p, uv, n), alpha_hash(p));
     }

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "core/color.h"
@@ -110,9 +109,6 @@ public:
     // point lights' emission is an unbiased estimate of the light's. Lights that cannot be
     // turned into point lights append none.
     virtual void to_point_lights(int n, Sampler& sampler, std::vector<PointLight>& out) const {}
-    // Non-empty where this light's point lights do not reproduce it yet: what they miss (the
-    // many-light integrators then refuse the scene rather than render it wrong).
-    virtual std::string point_lights_miss() const { return {}; }
 
     int index = -1;  // position in the scene's light list, set by the scene
 

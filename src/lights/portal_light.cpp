@@ -108,7 +108,6 @@ public:
     }
     // As pbrt-v4: directions over the whole image (the portal's side), from a disk of the
     // scene's bounding sphere; a closed room around the portal lets in only what passes it.
-    std::string point_lights_miss() const override { return "the infinite light's \"portal\""; }
     std::optional<LightLeSample> sample_le(const Vec2& u_pos, const Vec2& u_dir) const override {
         float map_pdf;
         auto uv = m_dist.sample(u_dir, Window2{{0, 0}, {1, 1}}, &map_pdf);

@@ -152,7 +152,8 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
         throw UsageError("vpl.glossy must be bsdf, diffuse or skip, not " + glossy);
     // At maxdepth 1 (or 0) the path tracer's paths end at their first vertex: no VPL light,
     // unless vpl.max_depth asks for it.
-    m.lights.vpls = m.lights.vpl_count > 0 && (vpl_depth_given || m.max_depth >= 2);
+    m.vpls_reach = vpl_depth_given || m.max_depth >= 2;
+    m.lights.vpls = m.lights.vpl_count > 0 && m.vpls_reach;
     read_vpl_sampler(s, &m.lights.vpl_sampler);
     m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count,
                                     {">= 1", "Point lights sampled on the area lights."});

@@ -23,6 +23,9 @@ struct ManyLightSettings {
     PointLightOptions lights;
     float clamp = 0;    // > 0: no VPL contributes more than this radiance (per channel)
     int max_depth = 5;  // delta bounces followed from the camera before gathering
+    // Whether VPLs have light to give: maxdepth 2 or more (a VPL's light is a second bounce), or
+    // vpl.max_depth given.
+    bool vpls_reach = true;
     // gather.medium_points: gather points on each stretch of a camera ray through a homogeneous
     // medium (0: one, where delta tracking finds the ray scatter; manylight/gather.h). 4, the
     // default, measured best on fog and a coloured cloud (bench/RESULTS.md, "Participating

@@ -3,9 +3,6 @@
 #include <chrono>
 #include <cmath>
 
-#include <fmt/format.h>
-
-#include "core/error.h"
 #include "core/rng.h"
 #include "lights/light.h"
 #include "manylight/vpl_budget.h"
@@ -58,13 +55,6 @@ void add_emitters(const Scene& scene, const PointLightOptions& options, PointLig
 PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions& options) {
     auto start = std::chrono::steady_clock::now();
     PointLightSet set;
-    for (const auto& light : scene.lights())
-        if (std::string miss = light->point_lights_miss(); !miss.empty())
-            throw UsageError(fmt::format(
-                "the many-light integrators do not render {} yet (their point lights miss it: "
-                "lightcuts came out 3% to 11% bright against pbrt-v4); render the scene with "
-                "path, bdpt or lighttracer",
-                miss));
     if (options.emitters) add_emitters(scene, options, set);
     if (options.vpls) {
         VplOptions vo;

@@ -110,7 +110,7 @@ IgiIntegrator::IgiIntegrator(const Settings& settings)
         throw UsageError("give igi.vpls or vpl.count, not both (they are the same count)");
     if (count < 0) throw UsageError("igi.vpls must be >= 0");
     m_many.lights.vpl_count = count;
-    m_many.lights.vpls = m_many.lights.vpl_count > 0;
+    m_many.lights.vpls = m_many.lights.vpl_count > 0 && m_many.vpls_reach;
 }
 
 // Per pixel: the sums of its samples, the direct and the interleaved VPL parts apart.
