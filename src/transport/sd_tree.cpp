@@ -102,8 +102,10 @@ uint32_t DirectionTree::leaf_slot(const Vec3& w) const {
     }
 }
 
-void DirectionTree::set_energies(const std::vector<double>& slots) {
+void DirectionTree::set_energies(const std::vector<double>& slots,
+                                 const std::vector<double>* records) {
     ML_ASSERT(slots.size() == 4 * m_nodes.size(), "one energy per quadrant");
+    ML_ASSERT(!records || records->size() == slots.size(), "one record count per quadrant");
     // Children come after their parents: sum from the last node up.
     for (size_t i = m_nodes.size(); i-- > 0;) {
         Node& node = m_nodes[i];
@@ -111,16 +113,19 @@ void DirectionTree::set_energies(const std::vector<double>& slots) {
             const uint32_t c = node.child[q];
             if (c == 0) {
                 node.energy[q] = slots[4 * i + size_t(q)];
+                node.records[q] = records ? (*records)[4 * i + size_t(q)] : kInfinity;
             } else {
                 const Node& child = m_nodes[c];
                 node.energy[q] =
                     child.energy[0] + child.energy[1] + child.energy[2] + child.energy[3];
+                node.records[q] =
+                    child.records[0] + child.records[1] + child.records[2] + child.records[3];
             }
         }
     }
 }
 
-DirectionTree DirectionTree::refined(double share, int max_depth) const {
+DirectionTree DirectionTree::refined(double share, int max_depth, double min_records) const {
     const double all = total();
     DirectionTree out;
     if (!(all > 0)) {
@@ -132,23 +137,24 @@ DirectionTree DirectionTree::refined(double share, int max_depth) const {
     // energy evenly over the quadrants it splits into.
     struct Item {
         uint32_t out_node;
-        int64_t src_node;  // -1: inside a leaf of this tree, of energy `leaf_energy`
-        double leaf_energy;
+        int64_t src_node;  // -1: inside a leaf of this tree, of `leaf_energy` and `leaf_records`
+        double leaf_energy, leaf_records;
         int depth;
     };
-    std::vector<Item> stack{{0, 0, 0, 1}};
+    std::vector<Item> stack{{0, 0, 0, 0, 1}};
     while (!stack.empty()) {
         const Item it = stack.back();
         stack.pop_back();
         for (int q = 0; q < 4; ++q) {
-            const double e =
-                it.src_node >= 0 ? m_nodes[size_t(it.src_node)].energy[q] : it.leaf_energy / 4;
-            if (it.depth >= max_depth || !(e > share * all)) continue;
+            const Node* src = it.src_node >= 0 ? &m_nodes[size_t(it.src_node)] : nullptr;
+            const double e = src ? src->energy[q] : it.leaf_energy / 4;
+            const double n = src ? src->records[q] : it.leaf_records / 4;
+            if (it.depth >= max_depth || !(e > share * all) || n < min_records) continue;
             const uint32_t c = uint32_t(out.m_nodes.size());
             out.m_nodes.emplace_back();
             out.m_nodes[it.out_node].child[q] = c;
             const uint32_t src_child = it.src_node >= 0 ? m_nodes[size_t(it.src_node)].child[q] : 0;
-            stack.push_back({c, src_child != 0 ? int64_t(src_child) : -1, e, it.depth + 1});
+            stack.push_back({c, src_child != 0 ? int64_t(src_child) : -1, e, n, it.depth + 1});
         }
     }
     return out;
@@ -157,15 +163,17 @@ DirectionTree DirectionTree::refined(double share, int max_depth) const {
 // SDTree ----------------------------------------------------------------------------------------
 
 struct SDTree::Region {
-    DirectionTree distribution;                     // learned in the last pass: guides this one
-    DirectionTree training;                         // the shape this pass records into
-    std::unique_ptr<std::atomic<int64_t>[]> slots;  // 4 per training node, fixed-point energy
+    DirectionTree distribution;                      // learned in the last pass: guides this one
+    DirectionTree training;                          // the shape this pass records into
+    std::unique_ptr<std::atomic<int64_t>[]> slots;   // 4 per training node, fixed-point energy
+    std::unique_ptr<std::atomic<int64_t>[]> counts;  // 4 per training node, records
     std::atomic<int64_t> records{0};
 
     void start_training(DirectionTree shape) {
         training = std::move(shape);
         slots = std::make_unique<std::atomic<int64_t>[]>(4 * training.nodes());
-        for (size_t i = 0; i < 4 * training.nodes(); ++i) slots[i] = 0;
+        counts = std::make_unique<std::atomic<int64_t>[]>(4 * training.nodes());
+        for (size_t i = 0; i < 4 * training.nodes(); ++i) slots[i] = counts[i] = 0;
         records = 0;
     }
 };
@@ -204,9 +212,11 @@ const DirectionTree* SDTree::distribution(const Region* region) {
 void SDTree::record(const Region* region, const Vec3& w, double energy) {
     Region& r = const_cast<Region&>(*region);  // the atomics are the training's mutable state
     r.records.fetch_add(1, std::memory_order_relaxed);
+    const uint32_t slot = r.training.leaf_slot(w);
+    r.counts[slot].fetch_add(1, std::memory_order_relaxed);
     if (!(energy > 0)) return;
     const int64_t units = std::llround(std::min(energy, kMaxRecord) * kFixedScale);
-    if (units > 0) r.slots[r.training.leaf_slot(w)].fetch_add(units, std::memory_order_relaxed);
+    if (units > 0) r.slots[slot].fetch_add(units, std::memory_order_relaxed);
 }
 
 void SDTree::split(uint32_t node, const Bounds3& bounds, int depth, double threshold) {
@@ -245,17 +255,20 @@ void SDTree::split(uint32_t node, const Bounds3& bounds, int depth, double thres
 void SDTree::refine(double paths) {
     // 1. What each region learned becomes its distribution.
     for (auto& r : m_regions) {
-        std::vector<double> energies(4 * r->training.nodes());
-        for (size_t i = 0; i < energies.size(); ++i)
+        std::vector<double> energies(4 * r->training.nodes()), counts(energies.size());
+        for (size_t i = 0; i < energies.size(); ++i) {
             energies[i] = double(r->slots[i].load()) / kFixedScale;
-        r->training.set_energies(energies);
+            counts[i] = double(r->counts[i].load());
+        }
+        r->training.set_energies(energies, &counts);
         r->distribution = r->training;
     }
     // 2. Regions that received many records split.
     split(0, m_bounds, 0, kSpatialThreshold * std::sqrt(paths / kReferencePaths));
     // 3. The next pass trains quadtrees shaped by the energy learned.
     for (auto& r : m_regions)
-        r->start_training(r->distribution.refined(kEnergyShare, kMaxQuadtreeDepth));
+        r->start_training(
+            r->distribution.refined(kEnergyShare, kMaxQuadtreeDepth, kMinSplitRecords));
 }
 
 }  // namespace ml

@@ -43,19 +43,23 @@ public:
     float pdf_solid_angle(const Vec3& w) const;
 
     // The quadtree for the next pass's training: a quadrant is split where it holds more than
-    // `share` of the total energy (a leaf's energy taken as spread evenly over it), up to
-    // `max_depth` levels; without energy, this tree's own shape. Energies are zero.
-    DirectionTree refined(double share, int max_depth) const;
+    // `share` of the total energy and at least `min_records` records (a leaf's energy and
+    // records taken as spread evenly over it), up to `max_depth` levels; without energy, this
+    // tree's own shape. Energies are zero.
+    DirectionTree refined(double share, int max_depth, double min_records = 0) const;
     // The index of the leaf slot (node * 4 + quadrant) holding direction w.
     uint32_t leaf_slot(const Vec3& w) const;
-    // Sets the leaf slots' energies (one per slot, inner slots ignored) and sums them up into
-    // the inner slots.
-    void set_energies(const std::vector<double>& slots);
+    // Sets the leaf slots' energies (one per slot, inner slots ignored) and, when given, their
+    // record counts (else as many as any refinement asks for), and sums them up into the inner
+    // slots.
+    void set_energies(const std::vector<double>& slots,
+                      const std::vector<double>* records = nullptr);
 
 private:
     struct Node {
         uint32_t child[4] = {0, 0, 0, 0};  // 0: the quadrant is a leaf (the root is never a child)
         double energy[4] = {0, 0, 0, 0};
+        double records[4] = {0, 0, 0, 0};  // how many records the energy is the sum of
     };
     std::vector<Node> m_nodes;
 };
@@ -64,7 +68,8 @@ class SDTree {
 public:
     // Müller's constants: a region splits once it received more than
     // kSpatialThreshold * sqrt(paths / kReferencePaths) records, `paths` those the pass traced;
-    // a quadrant splits above kEnergyShare of the energy, up to kMaxQuadtreeDepth levels.
+    // a quadrant splits above kEnergyShare of the energy, up to kMaxQuadtreeDepth levels, once
+    // it has kMinSplitRecords records.
     // Müller's threshold, 12000 sqrt(2^pass), is for passes of 4 * 2^pass samples per pixel at
     // 1280x720: scaled by the paths of the pass instead, a small image (a test's, a preview)
     // still splits its scene into regions, each learning from about as many records as the
@@ -72,6 +77,11 @@ public:
     static constexpr double kSpatialThreshold = 12000;
     static constexpr double kReferencePaths = 4.0 * 1280 * 720;
     static constexpr double kEnergyShare = 0.01;
+    // A quadrant splits only once it received this many records (ours, not Müller's): split by
+    // energy alone, a region's first few records towards a small bright source made leaves
+    // finer than the records, and the guide holes that later passes, sampling by it, never
+    // filled (bench/RESULTS.md, "Path guiding").
+    static constexpr double kMinSplitRecords = 256;
     static constexpr int kMaxQuadtreeDepth = 20;
 
     explicit SDTree(const Bounds3& bounds);
