@@ -147,7 +147,7 @@ TEST(Curves, BadInputIsRefusedAtItsPlace) {
     expect_error(std::string("Shape \"curve\" \"float width\" [ -1 ] ") + kStraight, 1, "negative");
     expect_error(std::string("AreaLightSource \"diffuse\"\nShape \"curve\" ") + kStraight, 2,
                  "not supported");
-    expect_error(std::string("Shape \"curve\" \"float alpha\" [ 0.5 ] ") + kStraight, 1,
-                 "not supported");
+    expect_error(std::string("Shape \"curve\" \"texture alpha\" \"holes\" ") + kStraight, 1,
+                 "undefined float texture \"holes\"");
     expect_error(std::string("Shape \"curve\" \"float radius\" [ 0.5 ] ") + kStraight, 1, "radius");
 }

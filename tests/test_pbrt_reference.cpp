@@ -139,6 +139,11 @@ TEST(PbrtReference, CoatedConductorMaterialDepth2) {
 }
 TEST(PbrtReference, InterfaceMaterial) { expect_matches_pbrt("mat_interface"); }
 TEST(PbrtReference, CurveShape) { expect_matches_pbrt("shape_curve"); }
+// Cut-out curves: a checkerboard alpha and a constant 0.5, in camera and shadow rays.
+TEST(PbrtReference, AlphaOnCurves) {
+    expect_matches_pbrt("shape_curve_alpha");
+    expect_matches_pbrt("shape_curve_alpha", "lightcuts");
+}
 TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }
 TEST(PbrtReference, RealisticCamera) { expect_matches_pbrt("camera_realistic"); }
 TEST(PbrtReference, RealisticCameraStarAperture) { expect_matches_pbrt("camera_realistic_star"); }

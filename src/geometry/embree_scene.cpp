@@ -79,6 +79,30 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+// The same test on curves: alpha at the curve's hit point, (u, v) and normal as the hit's
+// interaction has them (pbrt-v4 evaluates a curve's alpha there too).
+void curve_alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* mesh = static_cast<const TriangleMesh*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        RTCRayN* ray = args->ray;
+        RTCHitN* hit = args->hit;
+        const unsigned N = args->N;
+        Ray r;
+        r.o = Vec3(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
+        r.d = Vec3(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+        const float t = RTCRayN_tfar(ray, N, i);
+        const unsigned prim = RTCHitN_primID(hit, N, i);
+        SurfaceInteraction si;
+        curve_interaction(*mesh, prim, RTCHitN_u(hit, N, i), r, t, &si);
+        float a = mesh->alpha->eval(si.p, si.uv, si.ng);
+        if (a >= 1) continue;
+        if (!alpha_keeps(a, hash_ints(float_bits(r.o.x, r.o.y), float_bits(r.o.z, r.d.x),
+                                      float_bits(r.d.y, r.d.z), prim)))
+            args->valid[i] = 0;
+    }
+}
+
 }  // namespace
 
 struct EmbreeScene::Impl {
@@ -200,6 +224,11 @@ void EmbreeScene::add_curves(const TriangleMesh& m, unsigned id) {
                 nb[3 * (4 * s + k) + 2] = n.z;
             }
         }
+    }
+    if (m.alpha) {
+        rtcSetGeometryUserData(g, const_cast<TriangleMesh*>(&m));
+        rtcSetGeometryIntersectFilterFunction(g, &curve_alpha_filter);
+        rtcSetGeometryOccludedFilterFunction(g, &curve_alpha_filter);
     }
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(m_impl->scene, g, id);

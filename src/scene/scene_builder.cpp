@@ -473,8 +473,6 @@ void SceneBuilder::shape(const std::string& type, const ParameterList& params, c
                               "an area light on a curve (AreaLightSource at {}) is not supported "
                               "(pbrt-v4 cannot sample curves either)",
                               m_state.area_light->loc.to_string());
-        if (const Param* a = params.find("alpha"))
-            throw_input_error(a->loc, "curve: \"alpha\" is not supported by manylight");
     } else if (type == "loopsubdiv") {
         src.mesh = make_loop_subdiv(params, loc);
     } else {
