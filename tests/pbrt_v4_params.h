@@ -109,6 +109,8 @@ inline const PbrtParam kPbrtV4Params[] = {
     {"Shape", "curve", "float width0", "[ 0.1 ]", A},
     {"Shape", "curve", "float width1", "[ 0.05 ]", A},
     {"Shape", "curve", "integer splitdepth", "[ 2 ]", A},
+    {"Shape", "curve", "float alpha", "[ 0.5 ]", A},
+    {"Shape", "curve", "texture alpha", "\"ftex\"", A},
     {"Shape", "loopsubdiv", "integer levels", "[ 2 ]", A},
     {"Shape", "loopsubdiv", "integer indices", "[ 0 1 2  0 3 1  0 2 3  1 3 2 ]", A},
     {"Shape", "loopsubdiv", "point3 P", "[ 1 1 1  1 -1 -1  -1 1 -1  -1 -1 1 ]", A},
