@@ -340,7 +340,7 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
         "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\n"
         "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
         "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 0 1 ]\n";
-    for (const char* integrator : {"bdlightcuts", "manylight", "igi", "mlt"}) {
+    for (const char* integrator : {"bdlightcuts", "manylight", "mlt"}) {
         RenderOptions opt = options(1);
         opt.integrator = integrator;
         try {

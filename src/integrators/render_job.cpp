@@ -277,13 +277,13 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     // and gather points in media) carry light through them.
     if (has_media(desc)) {
         static const std::set<std::string> kMedia = {
-            "path", "lighttracer", "bdpt",        "pssmlt",
-            "vpl",  "lightcuts",   "mdlightcuts", "stochasticlightcuts"};
+            "path",        "lighttracer",         "bdpt", "pssmlt", "vpl", "lightcuts",
+            "mdlightcuts", "stochasticlightcuts", "igi"};
         if (!kMedia.count(name))
             throw UsageError(fmt::format(
                 "integrator \"{}\" does not render participating media yet (the scene has "
                 "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt, "
-                "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts or stochasticlightcuts",
+                "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts, stochasticlightcuts or igi",
                 name));
         if (name != "path")
             for (const auto& m : desc.media)

@@ -122,15 +122,10 @@ struct IgiIntegrator::Pixel {
 RGB IgiIntegrator::shade(const Scene& scene, const GatherPoint& g,
                          const std::vector<uint32_t>& indices, float scale) const {
     RGB L;
-    if (!m_igi.packets) {
-        for (uint32_t i : indices) {
-            const PointLight& pl = m_set.lights[i];
-            RGB c;
-            Ray shadow;
-            if (!point_light_contribution(m_set, pl, g, &c, &shadow)) continue;
-            c = m_many.clamped(c, pl.is_vpl);
-            if (!scene.occluded(shadow)) L += c;
-        }
+    // In media (g.sampler set) each light's transmittance, which packets do not carry.
+    if (!m_igi.packets || g.sampler) {
+        for (uint32_t i : indices)
+            L += visible_point_light(scene, m_set, m_many, m_set.lights[i], g);
         return L * scale;
     }
     // Eight shadow rays from one gather point at a time: coherent origins, one Embree packet.
@@ -170,7 +165,7 @@ void IgiIntegrator::gather_row(const RenderContext& ctx, const InterleavedLayout
         }
         bool first = s == 0;
         rp.direct = gather_along(
-            scene, ray, sampler, rs.scratch, m_many.max_depth, [&](const GatherPoint& g, float) {
+            scene, ray, sampler, rs.scratch, m_many.gather(), [&](const GatherPoint& g, float) {
                 if (first) {
                     gbuffer[index] = {g.si.p, g.si.ns, length(g.si.p - ray.o), true};
                     first = false;
@@ -202,15 +197,14 @@ void IgiIntegrator::shade_row_vpls(const Scene& scene, RowState& rs) const {
             const PointLight& pl = m_set.lights[i];
             for (RowPoint& pt : rs.points) {
                 if (pt.sub != sub) continue;
+                if (!m_igi.packets || pt.g.sampler) {  // (in media: transmittance)
+                    pt.vpls += visible_point_light(scene, m_set, m_many, pl, pt.g);
+                    continue;
+                }
                 RGB c;
                 Ray shadow;
                 if (!point_light_contribution(m_set, pl, pt.g, &c, &shadow)) continue;
-                c = m_many.clamped(c, pl.is_vpl);
-                if (!m_igi.packets) {
-                    if (!scene.occluded(shadow)) pt.vpls += c;
-                    continue;
-                }
-                packet.add(shadow, c, &pt.vpls);
+                packet.add(shadow, m_many.clamped(c, pl.is_vpl), &pt.vpls);
             }
             // One packet per VPL: the next VPL's rays end elsewhere.
             packet.flush();
@@ -224,6 +218,7 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     const Scene& scene = ctx.scene;
     m_many.use_render_seed(ctx.seed);
     m_many.use_time_limit(ctx, false);
+    m_many.use_scene(scene);
     build_many_lights(scene, m_many, &m_set, &m_direct);
 
     // The VPLs dealt round-robin to the sub-buffers (VPLs are in light-path order, so every
