@@ -107,9 +107,6 @@ TEST(Alpha, CameraRaysSeeThroughTheHoles) {
 TEST(Alpha, BadInputIsReportedAtItsPlace) {
     expect_scene_error("WorldBegin\nShape \"sphere\"\n  \"texture alpha\" \"nope\"\n", 3, 3,
                        "undefined float texture \"nope\"");
-    expect_scene_error(
-        "WorldBegin\nAreaLightSource \"diffuse\"\nShape \"sphere\"\n  \"float alpha\" [ 0 ]\n", 4,
-        3, "\"alpha\" 0 on an emitting shape");
     expect_scene_error("WorldBegin\nShape \"sphere\"\n  \"rgb alpha\" [ 0.5 0.5 0.5 ]\n", 3, 3,
                        "expected float");
 }

@@ -174,6 +174,22 @@ TEST(PbrtReference, AlphaOnAnAreaLightByLightcuts) {
 }
 // igi at max depth 1: no VPLs (their light would be a second bounce; igi made them, +5.6% here).
 TEST(PbrtReference, AlphaOnAnAreaLightByIgi) { expect_matches_pbrt("light_alpha", "igi"); }
+// pbrt-v4's invisible light (alpha 0 on an emitter): met by no ray, found by light sampling
+// alone (a light sample's MIS weight is 1), by every integrator that starts at the camera and
+// at the light; bdlightcuts and mlt refuse it.
+TEST(PbrtReference, InvisibleAreaLight) {
+    for (const char* integrator : {"path", "bdpt", "lighttracer", "lightcuts", "mdlightcuts"})
+        expect_matches_pbrt("light_invisible", integrator);
+    for (const char* integrator : {"bdlightcuts", "mlt"}) {
+        RenderOptions opt;
+        opt.progress = false;
+        opt.integrator = integrator;
+        opt.spp = 1;
+        EXPECT_THROW(render_scene(parse_scene_file(kScenes + "light_invisible.pbrt"), opt),
+                     UsageError)
+            << integrator;
+    }
+}
 // The infinite light's portal: the sky seen and sampled only through a window of a closed room,
 // by path; by lightcuts, sampled and as directional point lights drawn from the rectified image.
 TEST(PbrtReference, PortalInfiniteLight) { expect_matches_pbrt("light_portal"); }

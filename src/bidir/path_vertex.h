@@ -114,8 +114,10 @@ struct PathVertex {
     bool is_light() const {
         return kind == VertexKind::Light || (kind == VertexKind::Surface && si.area_light);
     }
+    // A light no camera subpath can meet: a delta light, or an invisible area light (MIS
+    // leaves out the strategies that would).
     bool is_delta_light() const {
-        return kind == VertexKind::Light && light && ml::is_delta_light(light->type());
+        return kind == VertexKind::Light && light && !light->met_by_rays();
     }
     bool is_infinite_light() const {
         return kind == VertexKind::Light && (!light || light->type() == LightType::Infinite ||

@@ -22,6 +22,9 @@ public:
     virtual ~AlphaMask() = default;
     // At point p with texture coordinates uv on a surface of geometric normal ng (any length).
     virtual float eval(const Vec3& p, const Vec2& uv, const Vec3& ng) const = 0;
+    // A constant alpha of 0: no ray ever meets the shape (pbrt-v4 makes such an emitter an
+    // invisible light).
+    virtual bool removes_all() const { return false; }
 };
 
 // pbrt-v4's "curve" shape as Embree curves: each segment a cubic Bezier whose four control

@@ -66,6 +66,7 @@ public:
         }
     }
     LightType type() const override { return LightType::Area; }
+    bool met_by_rays() const override { return !invisible(); }
 
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                            const Vec2& u) const override {
@@ -218,9 +219,12 @@ private:
     // uv): pbrt-v4's test, which hashes the point (so a fractional alpha a lets a of the
     // surface emit, and a ray that hit it, kept with probability a by the ray's own test, sees
     // its emission with probability a again, as in pbrt-v4).
+    // An invisible light (constant alpha 0) emits in full: its alpha keeps rays away, not light.
     bool masked(const Vec3& p, const Vec3& n, const Vec2& uv) const {
-        return m_mesh->alpha && !alpha_keeps(m_mesh->alpha->eval(p, uv, n), alpha_hash(p));
+        return m_mesh->alpha && !invisible() &&
+               !alpha_keeps(m_mesh->alpha->eval(p, uv, n), alpha_hash(p));
     }
+    bool invisible() const { return m_mesh->alpha && m_mesh->alpha->removes_all(); }
     // Texture coordinates at barycentrics b of triangle tri: the mesh's, else pbrt's (0,0),
     // (1,0), (1,1) per triangle (as ray hits have them).
     Vec2 texture_coords(size_t tri, const Barycentrics& b) const {

@@ -67,6 +67,10 @@ class Light {
 public:
     virtual ~Light() = default;
     virtual LightType type() const = 0;
+    // Whether rays can meet the light and see its emission (light samples then share it with
+    // BSDF samples by MIS): every light but the delta ones and the area lights on shapes of
+    // constant alpha 0 (pbrt-v4's invisible lights, which light sampling alone finds).
+    virtual bool met_by_rays() const { return !is_delta_light(type()); }
 
     // Scene-wide set-up once the scene's bounds are known (distant and infinite lights).
     virtual void preprocess(const Bounds3& scene_bounds) {}

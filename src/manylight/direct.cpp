@@ -104,7 +104,7 @@ RGB SampledDirectLight::estimate_through_media(const Scene& scene, const GatherP
                 if (!tr.is_black()) {
                     const float light_pdf = chosen * ls->pdf_solid_angle;
                     const float w =
-                        !mis || is_delta_light(light.type())
+                        !mis || !light.met_by_rays()
                             ? 1.f
                             : power_heuristic(light_pdf, g.bsdf.pdf_solid_angle(si.wo, ls->wi));
                     L += f * ls->L * tr * (w / light_pdf);

@@ -377,13 +377,16 @@ namespace {
 // A shape's "alpha" from a float texture or a constant.
 class TextureAlphaMask final : public AlphaMask {
 public:
-    explicit TextureAlphaMask(std::shared_ptr<const FloatTexture> tex) : m_tex(std::move(tex)) {}
+    TextureAlphaMask(std::shared_ptr<const FloatTexture> tex, bool zero = false)
+        : m_tex(std::move(tex)), m_zero(zero) {}
     float eval(const Vec3& p, const Vec2& uv, const Vec3& ng) const override {
         return m_tex->eval({p, uv, ng});
     }
+    bool removes_all() const override { return m_zero; }
 
 private:
     std::shared_ptr<const FloatTexture> m_tex;
+    bool m_zero;  // a constant alpha of 0 or less
 };
 
 }  // namespace
@@ -402,14 +405,10 @@ std::shared_ptr<const AlphaMask> SceneBuilder::shape_alpha(const ParameterList& 
         // As pbrt-v4: a constant alpha of 1 (or more) is no cut-out at all.
         float a = params.get_float("alpha", 1);
         if (a >= 1) return nullptr;
-        // pbrt-v4 makes such an emitter invisible to rays yet emitting in full, lit by light
-        // sampling alone (it turns the light into a delta light, without MIS).
-        if (a <= 0 && m_state.area_light && !m_current_object)
-            throw_input_error(p->loc,
-                              "\"alpha\" 0 on an emitting shape (AreaLightSource at {}), an "
-                              "invisible light, is not supported by manylight",
-                              m_state.area_light->loc.to_string());
-        tex = std::make_shared<ConstantFloatTexture>(a);
+        // On an emitter, pbrt-v4's invisible light: no ray meets it, it emits in full, and
+        // light sampling alone finds it (it becomes a delta light there, without MIS).
+        return std::make_shared<TextureAlphaMask>(std::make_shared<ConstantFloatTexture>(a),
+                                                  a <= 0);
     }
     return std::make_shared<TextureAlphaMask>(std::move(tex));
 }

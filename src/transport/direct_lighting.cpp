@@ -44,7 +44,7 @@ RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf
     const float sample_weight = weight ? weight(*ls, f_bsdf) : 1.f;
     if (sample_weight == 0.f || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
     RGB Ld;
-    if (!mis || is_delta_light(light.type())) {
+    if (!mis || !light.met_by_rays()) {
         Ld = f * ls->L / ls->pdf_solid_angle;
     } else {
         const float pdf_dir =

@@ -67,7 +67,7 @@ RGB sample_direct(const Scene& scene, const LightSampleContext& ctx, const Vec3&
                                  medium_for(ls->wi), time, sampler);
     if (tr.is_black()) return RGB();
     const float light_pdf = sl->pmf * ls->pdf_solid_angle;
-    float w = is_delta_light(sl->light->type()) ? 1.f : power_heuristic(light_pdf, pdf_dir);
+    float w = !sl->light->met_by_rays() ? 1.f : power_heuristic(light_pdf, pdf_dir);
     w *= light_weight(*sl->light, sl->pmf);
     return f * ls->L * tr * (w / light_pdf);
 }

@@ -463,6 +463,12 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
 }
 
 RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
+    // Its weights share an emitter's light with the paths that meet it, which no path does here.
+    for (const auto& l : ctx.scene.lights())
+        if (l->type() == LightType::Area && !l->met_by_rays())
+            throw UsageError(
+                "bdlightcuts: an invisible light (an emitting shape of \"alpha\" 0) is not "
+                "supported yet; render the scene with path, bdpt, lightcuts or mdlightcuts");
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     m_settings.use_time_limit(ctx, true);

@@ -37,8 +37,9 @@ void LightTracerIntegrator::render_sample(const RenderContext& ctx, Point2i, int
         const PathVertex& v = path[i];
         if (!v.is_connectible()) continue;
         Vec2 u = sampler.get_2d();
-        bool area_origin =
-            i == 0 && v.on_surface() && v.light && v.light->type() == LightType::Area;
+        bool area_origin = i == 0 && v.on_surface() && v.light &&
+                           v.light->type() == LightType::Area &&
+                           v.light->met_by_rays();  // (an invisible light is not seen)
         if (v.kind != VertexKind::Surface && !area_origin) continue;
         auto cs = ctx.camera.sample_wi(v.p(), u, time);
         if (!cs) continue;

@@ -43,7 +43,7 @@ void LightTracerIntegrator::render_sample_media(const RenderContext& ctx, Sample
     Ray ray = les->ray;
     ray.time = time;
     const Medium* medium = light.medium_towards(ray.d, les->n_light);
-    if (light.type() == LightType::Area) {
+    if (light.type() == LightType::Area && light.met_by_rays()) {
         const Vec3 offset = surface_offset(les->n_light, les->p_error);
         join_lens(
             ray.o, offset,
