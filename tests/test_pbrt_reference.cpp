@@ -144,6 +144,8 @@ TEST(PbrtReference, CoatedConductorMaterialDepth2) {
 }
 TEST(PbrtReference, InterfaceMaterial) { expect_matches_pbrt("mat_interface"); }
 TEST(PbrtReference, CurveShape) { expect_matches_pbrt("shape_curve"); }
+// Moving curves (an animated transform while the shutter is open): motion blur and its shadows.
+TEST(PbrtReference, MovingCurves) { expect_matches_pbrt("shape_curve_motion"); }
 // Cut-out curves: a checkerboard alpha and a constant 0.5, in camera and shadow rays.
 TEST(PbrtReference, AlphaOnCurves) {
     expect_matches_pbrt("shape_curve_alpha");

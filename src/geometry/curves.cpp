@@ -163,13 +163,40 @@ Vec3 eval_cubic_bezier(const Vec3 p[4], float u, Vec3* deriv) {
 }
 
 void curve_interaction(const TriangleMesh& m, uint32_t seg, float u, const Ray& ray, float t,
-                       SurfaceInteraction* si) {
+                       float motion_time, SurfaceInteraction* si) {
     const CurveSet& c = *m.curves;
-    const Vec3* cp = &m.p[4 * size_t(seg)];
+    // The segment where it is at the ray's time: control points, end widths and end normals.
+    Vec3 cp[4], n_end[2];
+    float w_end[2];
+    for (int k = 0; k < 4; ++k) cp[k] = m.p[4 * size_t(seg) + size_t(k)];
+    for (int k = 0; k < 2; ++k) {
+        w_end[k] = c.width[2 * seg + size_t(k)];
+        if (!c.n.empty()) n_end[k] = c.n[2 * seg + size_t(k)];
+    }
+    if (m.moves()) {
+        const float x = std::clamp(motion_time, 0.f, 1.f) * float(m.motion_steps - 1);
+        const int s0 = std::min(int(x), m.motion_steps - 2);
+        const float f = x - float(s0);
+        const size_t np = m.p.size(), nw = c.width.size(), nn = c.n.size();
+        auto mix = [f](const Vec3& a, const Vec3& b) { return a * (1 - f) + b * f; };
+        for (int k = 0; k < 4; ++k) {
+            const size_t i = 4 * size_t(seg) + size_t(k);
+            cp[k] = mix(m.motion_p[size_t(s0) * np + i], m.motion_p[size_t(s0 + 1) * np + i]);
+        }
+        for (int k = 0; k < 2; ++k) {
+            const size_t i = 2 * size_t(seg) + size_t(k);
+            w_end[k] = lerp(f, c.motion_width[size_t(s0) * nw + i],
+                            c.motion_width[size_t(s0 + 1) * nw + i]);
+            if (nn == 0) continue;
+            const Vec3 n =
+                mix(c.motion_n[size_t(s0) * nn + i], c.motion_n[size_t(s0 + 1) * nn + i]);
+            n_end[k] = length_squared(n) > 0 ? normalize(n) : n_end[k];
+        }
+    }
     u = std::clamp(u, 0.f, 1.f);
     Vec3 dpdu;
     const Vec3 pc = eval_cubic_bezier(cp, u, &dpdu);
-    const float w = lerp(u, c.width[2 * seg], c.width[2 * seg + 1]);
+    const float w = lerp(u, w_end[0], w_end[1]);
     const Vec3 d = normalize(ray.d);
     const Vec3 p = ray.at(t);
     // Cross products taken in world space are negated under a handedness-swapping transform,
@@ -187,7 +214,7 @@ void curve_interaction(const TriangleMesh& m, uint32_t seg, float u, const Ray& 
     Vec3 dpdv;
     if (c.type == CurveType::ribbon) {
         // The ribbon's width as seen along the ray (pbrt-v4 scales by |n . d|).
-        Vec3 nh = ribbon_normal(c.n[2 * seg], c.n[2 * seg + 1], u);
+        Vec3 nh = ribbon_normal(n_end[0], n_end[1], u);
         hit_width = w * std::abs(dot(nh, d));
         Vec3 side = cross(nh, dpdu);
         dpdv = (length_squared(side) > 0 ? normalize(side) * sign : across) * hit_width;

@@ -25,8 +25,9 @@ void transform_curves(CurveSet& curves, const Transform& to_world);
 Vec3 eval_cubic_bezier(const Vec3 p[4], float u, Vec3* deriv);
 
 // Fills `si` for a hit on segment `seg` of curve mesh `m` at segment parameter u (Embree's),
-// ray parameter t.
+// ray parameter t; a moving mesh where it is at `motion_time` (0 to 1 over the shutter, as
+// Embree's ray time), each control point, width and normal moving linearly between time steps.
 void curve_interaction(const TriangleMesh& m, uint32_t seg, float u, const Ray& ray, float t,
-                       SurfaceInteraction* si);
+                       float motion_time, SurfaceInteraction* si);
 
 }  // namespace ml

@@ -94,7 +94,8 @@ void curve_alpha_filter(const RTCFilterFunctionNArguments* args) {
         const float t = RTCRayN_tfar(ray, N, i);
         const unsigned prim = RTCHitN_primID(hit, N, i);
         SurfaceInteraction si;
-        curve_interaction(*mesh, prim, RTCHitN_u(hit, N, i), r, t, &si);
+        // (The ray's time, Embree's 0 to 1, is where a moving curve is.)
+        curve_interaction(*mesh, prim, RTCHitN_u(hit, N, i), r, t, RTCRayN_time(ray, N, i), &si);
         float a = mesh->alpha->eval(si.p, si.uv, si.ng);
         if (a >= 1) continue;
         if (!alpha_keeps(a, hash_ints(float_bits(r.o.x, r.o.y), float_bits(r.o.z, r.d.x),
@@ -194,34 +195,49 @@ void EmbreeScene::add_curves(const TriangleMesh& m, unsigned id) {
     RTCGeometry g =
         rtcNewGeometry(m_impl->device, ribbon ? RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE
                                               : RTC_GEOMETRY_TYPE_FLAT_BEZIER_CURVE);
-    float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), 4 * ns));
-    m_impl->check();
     auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(uint32_t), ns));
     m_impl->check();
-    float* nb = nullptr;
-    if (ribbon) {
-        nb = static_cast<float*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4 * ns));
-        m_impl->check();
-    }
+    for (size_t s = 0; s < ns; ++s) ib[s] = uint32_t(4 * s);
     // Embree cuts flat curves into linear pieces, 4 per segment by default, which shows as kinks
     // on long hairs; 16 follows pbrt-v4's own refinement (which stops at width / 20) closely.
     rtcSetGeometryTessellationRate(g, 16.f);
-    for (size_t s = 0; s < ns; ++s) {
-        ib[s] = uint32_t(4 * s);
-        for (int k = 0; k < 4; ++k) {
-            const Vec3& q = m.p[4 * s + k];
-            const float r = 0.5f * lerp(float(k) / 3.f, c.width[2 * s], c.width[2 * s + 1]);
-            float* out = &vb[4 * (4 * s + k)];
-            out[0] = q.x, out[1] = q.y, out[2] = q.z, out[3] = r;
-            m_bounds.expand(q - Vec3(r, r, r));
-            m_bounds.expand(q + Vec3(r, r, r));
-            if (nb) {
-                Vec3 n = c.n[2 * s] * (1 - float(k) / 3.f) + c.n[2 * s + 1] * (float(k) / 3.f);
-                nb[3 * (4 * s + k)] = n.x, nb[3 * (4 * s + k) + 1] = n.y;
-                nb[3 * (4 * s + k) + 2] = n.z;
+    // A moving curve mesh: one vertex (and normal) buffer per time step, which Embree
+    // interpolates linearly, as curve_interaction does.
+    const int steps = m.moves() ? m.motion_steps : 1;
+    if (m.moves()) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+    for (int step = 0; step < steps; ++step) {
+        const Vec3* p = m.moves() ? &m.motion_p[size_t(step) * m.p.size()] : m.p.data();
+        const float* width =
+            m.moves() ? &c.motion_width[size_t(step) * c.width.size()] : c.width.data();
+        const Vec3* normal = !ribbon     ? nullptr
+                             : m.moves() ? &c.motion_n[size_t(step) * c.n.size()]
+                                         : c.n.data();
+        float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX,
+                                                                unsigned(step), RTC_FORMAT_FLOAT4,
+                                                                4 * sizeof(float), 4 * ns));
+        m_impl->check();
+        float* nb = nullptr;
+        if (ribbon) {
+            nb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL,
+                                                             unsigned(step), RTC_FORMAT_FLOAT3,
+                                                             3 * sizeof(float), 4 * ns));
+            m_impl->check();
+        }
+        for (size_t s = 0; s < ns; ++s) {
+            for (int k = 0; k < 4; ++k) {
+                const Vec3& q = p[4 * s + k];
+                const float r = 0.5f * lerp(float(k) / 3.f, width[2 * s], width[2 * s + 1]);
+                float* out = &vb[4 * (4 * s + k)];
+                out[0] = q.x, out[1] = q.y, out[2] = q.z, out[3] = r;
+                m_bounds.expand(q - Vec3(r, r, r));
+                m_bounds.expand(q + Vec3(r, r, r));
+                if (nb) {
+                    Vec3 n =
+                        normal[2 * s] * (1 - float(k) / 3.f) + normal[2 * s + 1] * (float(k) / 3.f);
+                    nb[3 * (4 * s + k)] = n.x, nb[3 * (4 * s + k) + 1] = n.y;
+                    nb[3 * (4 * s + k) + 2] = n.z;
+                }
             }
         }
     }
@@ -410,7 +426,7 @@ void EmbreeScene::fill_interaction(const Ray& ray, unsigned geom_id, unsigned pr
                                    SurfaceInteraction* si) const {
     const TriangleMesh& m = *m_meshes[geom_id];
     if (m.curves) {
-        curve_interaction(m, prim_id, u, ray, t, si);
+        curve_interaction(m, prim_id, u, ray, t, motion_time(ray.time), si);
         si->mesh_id = geom_id;
         return;
     }

@@ -37,6 +37,11 @@ struct CurveSet {
     // The object-to-world transform reverses handedness: normals computed from world-space
     // cross products are negated to agree with pbrt-v4, which takes them in object space.
     bool swaps_handedness = false;
+    // A moving curve mesh (TriangleMesh::moves()): the widths and normals of each time step, as
+    // its motion_p holds the control points (step k's at [k * width.size()] and
+    // [k * n.size()]); width and n hold step 0's.
+    std::vector<float> motion_width;
+    std::vector<Vec3> motion_n;
     size_t segment_count() const { return width.size() / 2; }
 };
 

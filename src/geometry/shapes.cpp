@@ -264,6 +264,19 @@ void transform_mesh_motion(TriangleMesh& mesh, const std::vector<Transform>& ste
     ML_ASSERT(steps.size() >= 2, "a moving mesh needs two steps or more");
     const size_t nv = mesh.p.size();
     const std::vector<Vec3> p_object = mesh.p, n_object = mesh.n;
+    if (mesh.curves) {
+        // Each step's widths and ribbon normals, from the object space's.
+        const CurveSet object = *mesh.curves;
+        mesh.curves->motion_width.clear();
+        mesh.curves->motion_n.clear();
+        for (const Transform& t : steps) {
+            CurveSet c = object;
+            transform_curves(c, t);
+            mesh.curves->motion_width.insert(mesh.curves->motion_width.end(), c.width.begin(),
+                                             c.width.end());
+            mesh.curves->motion_n.insert(mesh.curves->motion_n.end(), c.n.begin(), c.n.end());
+        }
+    }
     mesh.motion_steps = int(steps.size());
     mesh.motion_p.resize(steps.size() * nv);
     mesh.motion_n.resize(n_object.empty() ? 0 : steps.size() * nv);

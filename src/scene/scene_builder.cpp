@@ -607,9 +607,6 @@ SceneDesc SceneBuilder::finish() {
         AnimatedTransform obj(r.to_world[0], t0, r.to_world[1], t1);
         AnimatedTransform inst(r.instance[0], t0, r.instance[1], t1);
         if (!obj.is_animated() && !inst.is_animated()) continue;
-        if (m_sources[r.source].mesh && m_sources[r.source].mesh->curves)
-            throw_input_error(r.loc,
-                              "a curve under an animated transform is not supported by manylight");
         if (r.area_light)
             throw_input_error(r.loc,
                               "a shape under an animated transform cannot be an area light "
