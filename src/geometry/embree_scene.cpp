@@ -47,31 +47,22 @@ const char* embree_error_name(RTCError code) {
 
 // pbrt-v4's stochastic alpha test, as an Embree filter: a candidate hit on a cut-out mesh is
 // dropped where alpha is 0, and where alpha is fractional when a uniform number drawn by hashing
-// the ray (origin and direction, as pbrt-v4's HashFloat(ray.o, ray.d)) and the triangle exceeds
-// alpha. Hashing rather than sampling keeps the test the same for the same ray, and the triangle
+// the ray (origin and direction, as pbrt-v4's HashFloat(ray.o, ray.d)) and the primitive exceeds
+// alpha. Hashing rather than sampling keeps the test the same for the same ray, and the primitive
 // in the hash keeps layers of cut-outs along one ray independent (pbrt-v4 gets that by
 // re-spawning the ray past each rejected hit). Camera, bounce and shadow rays share the filter.
-void alpha_filter(const RTCFilterFunctionNArguments* args) {
+// alpha_at(mesh, o, d, t, primitive, i): alpha at candidate hit i.
+template <typename AlphaAt>
+void filter_by_alpha(const RTCFilterFunctionNArguments* args, AlphaAt&& alpha_at) {
     const auto* mesh = static_cast<const TriangleMesh*>(args->geometryUserPtr);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
         RTCRayN* ray = args->ray;
-        RTCHitN* hit = args->hit;
         const unsigned N = args->N;
         Vec3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
         Vec3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
-        const float t = RTCRayN_tfar(ray, N, i);
-        const unsigned prim = RTCHitN_primID(hit, N, i);
-        const float u = RTCHitN_u(hit, N, i), v = RTCHitN_v(hit, N, i), w = 1.f - u - v;
-        Vec2 uv0(0, 0), uv1(1, 0), uv2(1, 1);
-        if (!mesh->uv.empty()) {
-            uv0 = mesh->uv[mesh->indices[3 * prim]];
-            uv1 = mesh->uv[mesh->indices[3 * prim + 1]];
-            uv2 = mesh->uv[mesh->indices[3 * prim + 2]];
-        }
-        const Vec3 ng(RTCHitN_Ng_x(hit, N, i), RTCHitN_Ng_y(hit, N, i), RTCHitN_Ng_z(hit, N, i));
-        float a = mesh->alpha->eval(o + d * t, uv0 * w + uv1 * u + uv2 * v,
-                                    length_squared(ng) > 0 ? normalize(ng) : ng);
+        const unsigned prim = RTCHitN_primID(args->hit, N, i);
+        const float a = alpha_at(*mesh, o, d, RTCRayN_tfar(ray, N, i), prim, i);
         if (a >= 1) continue;
         if (!alpha_keeps(a, hash_ints(float_bits(o.x, o.y), float_bits(o.z, d.x),
                                       float_bits(d.y, d.z), prim)))
@@ -79,29 +70,35 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
-// The same test on curves: alpha at the curve's hit point, (u, v) and normal as the hit's
-// interaction has them (pbrt-v4 evaluates a curve's alpha there too).
-void curve_alpha_filter(const RTCFilterFunctionNArguments* args) {
-    const auto* mesh = static_cast<const TriangleMesh*>(args->geometryUserPtr);
-    for (unsigned i = 0; i < args->N; ++i) {
-        if (args->valid[i] != -1) continue;
-        RTCRayN* ray = args->ray;
+// On triangles: alpha at the hit point, its texture coordinates and geometric normal.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    filter_by_alpha(args, [args](const TriangleMesh& mesh, const Vec3& o, const Vec3& d, float t,
+                                 unsigned prim, unsigned i) {
         RTCHitN* hit = args->hit;
         const unsigned N = args->N;
-        Ray r;
-        r.o = Vec3(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
-        r.d = Vec3(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
-        const float t = RTCRayN_tfar(ray, N, i);
-        const unsigned prim = RTCHitN_primID(hit, N, i);
+        const float u = RTCHitN_u(hit, N, i), v = RTCHitN_v(hit, N, i), w = 1.f - u - v;
+        Vec2 uv0(0, 0), uv1(1, 0), uv2(1, 1);
+        if (!mesh.uv.empty()) {
+            uv0 = mesh.uv[mesh.indices[3 * prim]];
+            uv1 = mesh.uv[mesh.indices[3 * prim + 1]];
+            uv2 = mesh.uv[mesh.indices[3 * prim + 2]];
+        }
+        const Vec3 ng(RTCHitN_Ng_x(hit, N, i), RTCHitN_Ng_y(hit, N, i), RTCHitN_Ng_z(hit, N, i));
+        return mesh.alpha->eval(o + d * t, uv0 * w + uv1 * u + uv2 * v,
+                                length_squared(ng) > 0 ? normalize(ng) : ng);
+    });
+}
+
+// On curves: alpha at the hit point, (u, v) and normal as the hit's interaction has them (pbrt-v4
+// evaluates a curve's alpha there too), the curve where the ray's time (Embree's 0 to 1) puts it.
+void curve_alpha_filter(const RTCFilterFunctionNArguments* args) {
+    filter_by_alpha(args, [args](const TriangleMesh& mesh, const Vec3& o, const Vec3& d, float t,
+                                 unsigned prim, unsigned i) {
         SurfaceInteraction si;
-        // (The ray's time, Embree's 0 to 1, is where a moving curve is.)
-        curve_interaction(*mesh, prim, RTCHitN_u(hit, N, i), r, t, RTCRayN_time(ray, N, i), &si);
-        float a = mesh->alpha->eval(si.p, si.uv, si.ng);
-        if (a >= 1) continue;
-        if (!alpha_keeps(a, hash_ints(float_bits(r.o.x, r.o.y), float_bits(r.o.z, r.d.x),
-                                      float_bits(r.d.y, r.d.z), prim)))
-            args->valid[i] = 0;
-    }
+        curve_interaction(mesh, prim, RTCHitN_u(args->hit, args->N, i), Ray{o, d}, t,
+                          RTCRayN_time(args->ray, args->N, i), &si);
+        return mesh.alpha->eval(si.p, si.uv, si.ng);
+    });
 }
 
 }  // namespace
