@@ -304,4 +304,10 @@ TEST_F(Checkpoints, AnIntegratorThatCannotSaveItsStateIsRefused) {
     g.checkpoint = path("g.ckpt");
     EXPECT_THROW(render(g), ml::UsageError);
     EXPECT_FALSE(fs::exists(g.checkpoint));
+    // So is bdlightcuts' with guided remainders.
+    ml::RenderOptions b = options("bdlightcuts", 2);
+    b.set["bdlightcuts.guiding"] = "on";
+    b.checkpoint = path("b.ckpt");
+    EXPECT_THROW(render(b), ml::UsageError);
+    EXPECT_FALSE(fs::exists(b.checkpoint));
 }

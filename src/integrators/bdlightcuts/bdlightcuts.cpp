@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/parallel.h"
 #include "core/stats.h"
@@ -239,6 +240,14 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
         "rest_paths", m_rest_paths,
         {">= 1", "Remainder paths traced from each continued eye path, averaged."});
     if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
+    const std::string guiding = settings.get_string(
+        "guiding", m_guiding ? "on" : "off",
+        {"on, off",
+         "Path guiding of the remainder paths: each pass's remainders are guided by what the "
+         "remainders before them learned (path.guiding's tree), without Russian roulette."});
+    if (guiding != "on" && guiding != "off")
+        throw UsageError("bdlightcuts.guiding must be on or off, not '" + guiding + "'");
+    m_guiding = guiding == "on";
     const std::string vsp_tree =
         settings.get_string("vsp_tree", m_tree_by_depth ? "depth" : "position",
                             {"depth, position",
@@ -327,9 +336,16 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                 RemainderWeight r(m_weights, s.prefix, pending_mt, s.pending_mu);
                 // `rest_paths` of them, averaged (each with the whole throughput, which their
                 // Russian roulette looks at).
+                PathTraceOptions options{m_settings.max_depth, 1};
+                if (m_guide) {
+                    options.guide = m_guide.get();
+                    options.guide_record = true;
+                    options.rr_depth = std::numeric_limits<int>::max();  // as path.guiding's
+                    m_guide_paths.fetch_add(uint64_t(m_rest_paths), std::memory_order_relaxed);
+                }
                 for (int i = 0; i < m_rest_paths; ++i) {
                     RGB rp = continue_path(scene, si, depth, s.beta, sampler, ts.scratch,
-                                           *m_nee_lights, {m_settings.max_depth, 1}, &r) /
+                                           *m_nee_lights, options, &r) /
                              float(m_rest_paths);
                     L += rp;
                 }
@@ -471,6 +487,17 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                 "supported yet; render the scene with path, bdpt, lightcuts or mdlightcuts");
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    RenderResult result;
+    m_guide.reset();
+    m_guide_paths = 0;
+    if (m_guiding && m_rest_path) {
+        if (ctx.ranks() > 1)
+            result.warnings.push_back(
+                "bdlightcuts: guiding runs in one process; rendered without it");
+        else
+            m_guide = std::make_unique<SDTree>(ctx.scene.bounds());
+    }
+    double guide_seconds = 0;
     m_settings.use_time_limit(ctx, true);
     SampledDirectLight unused_direct;
     if (m_rest_path || m_emission_mis || m_direct_sample)
@@ -554,6 +581,13 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     float max_share = 1;
     auto begin_pass = [&](int64_t pass) {
         if (m_settings.use_set(pass, m_set)) build_set();
+        // What the remainders so far learned (before the first pass: the pilots') guides the
+        // pass's.
+        if (m_guide && m_guide_paths > 0) {
+            const double start = ctx.elapsed();
+            m_guide->refine(double(m_guide_paths.exchange(0)));
+            guide_seconds += ctx.elapsed() - start;
+        }
     };
     const SamplePasses done_passes =
         m_adaptive
@@ -571,7 +605,6 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     const int done = int(done_passes.whole);
     if (checkpoint) checkpoint->set_state({});
 
-    RenderResult result;
     result.spp = int(done_passes.samples);
     result.point_lights = m_set.lights.size();
     result.vpls = m_set.vpls;
@@ -583,6 +616,9 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"eye_length", m_eye_length},
                               {"rest", m_rest_path ? "path" : "drop"},
                               {"rest_paths", m_rest_paths},
+                              {"guiding", m_guide ? "on" : "off"},
+                              {"guide_regions", m_guide ? m_guide->regions() : 0},
+                              {"guide_refine_seconds", guide_seconds},
                               {"vsp_tree", m_tree_by_depth ? "depth" : "position"},
                               {"emission", m_emission_mis ? "mis" : "hit"},
                               {"emission_samples", m_emission_samples},

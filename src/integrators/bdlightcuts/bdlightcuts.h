@@ -35,6 +35,7 @@
 #include "manylight/product_cut.h"
 #include "render/integrator.h"
 #include "render/settings.h"
+#include "transport/sd_tree.h"
 
 namespace ml {
 
@@ -45,7 +46,8 @@ public:
     RenderResult render(const RenderContext& ctx) override;
     // A pass's set and samples depend on the seed and the pass alone; the checkpoint keeps the
     // pass plan (cap, samples), adaptive sampling's first pass (sample_shares.h) and the figures.
-    bool can_checkpoint() const override { return true; }
+    // (Not with guided remainders: the guide is not saved.)
+    bool can_checkpoint() const override { return !m_guiding; }
 
     // What a VSP at eye vertex x_j keeps for its pairs' weights.
     struct Vsp {
@@ -86,6 +88,11 @@ private:
     int m_eye_length = 2;     // bench/RESULTS.md, "Issue 17, session 16" (3 from session 12)
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
     int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
+    // bdlightcuts.guiding: the remainder paths are guided (transport/sd_tree.h) by what the
+    // remainders of the passes before them (the pilots' first) learned.
+    bool m_guiding = false;
+    std::unique_ptr<SDTree> m_guide;
+    mutable std::atomic<uint64_t> m_guide_paths{0};  // remainder paths recorded since the refine
     // bdlightcuts.vsp_tree: the VSP tree splits the VSPs by eye depth before position (depth,
     // true), or by position alone. A node of VSPs at several depths (the first VSPs, in the
     // pixel, with later ones across the scene) has a box as large as the scene and
