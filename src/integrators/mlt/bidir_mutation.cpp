@@ -176,17 +176,9 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
         PathVertex& p = ev[size_t(t - 1)];
         if (p.kind != VertexKind::Surface || !p.is_connectible()) return std::nullopt;
         if (s == 1 && kept_l == 0) {
-            float u_select = sampler.get_1d();
-            Vec2 u = sampler.get_2d();
-            auto sl = ctx.light_sampler.sample(u_select);
-            if (!sl || sl->pmf == 0) return std::nullopt;
-            // The point by the light's area density, as sample_le places a light subpath's
-            // origin: path_over_bdpt_density takes that density for every s.
-            auto les = sl->light->sample_le(u, Vec2(0.5f, 0.5f));
-            if (!les || les->L.is_black() || les->pdf_pos == 0) return std::nullopt;
-            lv[0] = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, RGB(1.f), 0,
-                                               les->p_error, les->prim);
-            lv[0].si.uv = les->uv;
+            auto light_point = sample_light_point_by_area(ctx, sampler);
+            if (!light_point) return std::nullopt;
+            lv[0] = *light_point;
         }
         PathVertex& q = lv[size_t(s - 1)];
         if (!q.is_connectible() || !mutually_visible(ctx.scene, p, q)) return std::nullopt;

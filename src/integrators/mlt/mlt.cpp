@@ -87,10 +87,6 @@ RenderResult MltIntegrator::render(const RenderContext& ctx) {
     for (const auto& l : ctx.scene.lights())
         if (l->type() == LightType::Infinite || l->type() == LightType::DeltaDirection)
             throw UsageError(name() + ": environment and distant lights are not supported");
-        else if (l->type() == LightType::Area && !l->met_by_rays())
-            throw UsageError(name() +
-                             ": an invisible light (an emitting shape of \"alpha\" 0) is not "
-                             "supported; render the scene with path, bdpt or pssmlt");
     const int w = ctx.film.width(), h = ctx.film.height();
     const int64_t pixels = int64_t(w) * h;
     LightSampler light_sampler("power", ctx.scene.lights());

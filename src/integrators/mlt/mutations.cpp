@@ -104,8 +104,23 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
     if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(u_time), lv.data()) != s)
         return std::nullopt;
     PathVertex sampled;
-    Connection c = connect_bdpt(ctx, lv.data(), cv.data(), s, t, sampler, &sampled);
-    if (c.L.is_black()) return std::nullopt;
+    Connection c;
+    if (s == 1) {
+        // The light point by area density, the density path_over_bdpt_density counts for s = 1
+        // (connect_bdpt's light sample draws by solid angle: with it the bootstrap's mean, and so
+        // the image, was 5.5% bright on tests/scenes/light_invisible, where no path meets the
+        // light and s = 1 carries its direct light).
+        const PathVertex& pt = cv[size_t(t - 1)];
+        if (!pt.is_connectible()) return std::nullopt;
+        auto light_point = sample_light_point_by_area(ctx, sampler);
+        if (!light_point) return std::nullopt;
+        sampled = *light_point;
+        sampled.si.time = pt.si.time;
+        if (!mutually_visible(ctx.scene, pt, sampled)) return std::nullopt;
+    } else {
+        c = connect_bdpt(ctx, lv.data(), cv.data(), s, t, sampler, &sampled);
+        if (c.L.is_black()) return std::nullopt;
+    }
 
     // The whole path, lens first.
     MltPath x;

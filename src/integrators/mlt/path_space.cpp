@@ -1,5 +1,8 @@
 #include "integrators/mlt/path_space.h"
 
+#include "lights/light_sampler.h"
+#include "sampling/sampler.h"
+
 namespace ml {
 
 namespace {
@@ -68,6 +71,22 @@ std::optional<Vec3> specular_direction(const PathVertex& v, const Vec3& wo, bool
     return std::nullopt;
 }
 
+std::optional<PathVertex> sample_light_point_by_area(const BdptScene& ctx, Sampler& sampler) {
+    float u_select = sampler.get_1d();
+    Vec2 u = sampler.get_2d();
+    auto sl = ctx.light_sampler.sample(u_select);
+    if (!sl || sl->pmf == 0) return std::nullopt;
+    // Only the point is kept; the direction's numbers must still give it a density, or
+    // sample_le fails: (0.5, 0.5) is the horizon of a two-sided light's back side (pdf 0, so
+    // strategy s = 1 never sampled a two-sided light), (0.25, 0.5) the front side's normal.
+    auto les = sl->light->sample_le(u, Vec2(0.25f, 0.5f));
+    if (!les || les->L.is_black() || les->pdf_pos == 0) return std::nullopt;
+    PathVertex v = PathVertex::light_endpoint(sl->light, les->ray.o, les->n_light, RGB(1.f), 0,
+                                              les->p_error, les->prim);
+    v.si.uv = les->uv;
+    return v;
+}
+
 RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, int* s_hi, int s_min,
                            int s_max) {
     const int n = int(x.v.size());
@@ -103,7 +122,7 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         if (s < s_min || s > s_max) return false;
         int t = n - s;
         if (t < 1 || (s == 1 && t == 1)) return false;
-        if (s == 0) return area;
+        if (s == 0) return area && light->met_by_rays();  // (no path meets an invisible light)
         if (t == 1 && n - 1 < 2) return false;
         return connectible(t - 1) && connectible(t);
     };

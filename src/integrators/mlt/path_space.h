@@ -42,6 +42,12 @@ inline bool is_specular_vertex(const MltPath& x, int k) {
 // (transmission or reflection, as the directions say); black if no lobe does.
 RGB specular_weight(const PathVertex& v, const Vec3& wo, const Vec3& wi);
 
+// A light endpoint for strategy s = 1, the light chosen by ctx.light_sampler and the point by
+// the light's area density (as sample_le places a light subpath's origin), which is the density
+// path_over_bdpt_density counts for it; BDPT's own s = 1 (the light's sample_li) draws by solid
+// angle instead. Null where the light gives no point.
+std::optional<PathVertex> sample_light_point_by_area(const BdptScene& ctx, Sampler& sampler);
+
 // f(x) / q(x), q the density with which BDPT, choosing one of `depth + 2` strategies uniformly
 // (one for depth 0), proposes x. Strategies that sample a specular vertex from different sides
 // see it through different delta distributions, so only the run [s_lo, s_hi] of consecutive
