@@ -395,12 +395,12 @@ inline const PbrtParam kPbrtV4Params[] = {
     {"Integrator", "bdpt", "bool visualizeweights", "false", A},
     {"Integrator", "bdpt", "bool regularize", "false", A},
     {"Integrator", "mlt", "integer maxdepth", "[ 2 ]", A},
-    {"Integrator", "mlt", "integer bootstrapsamples", "[ 1000 ]", G},
+    {"Integrator", "mlt", "integer bootstrapsamples", "[ 1000 ]", A},
     {"Integrator", "mlt", "integer chains", "[ 100 ]", A},
-    {"Integrator", "mlt", "integer mutationsperpixel", "[ 1 ]", G},
-    {"Integrator", "mlt", "float largestepprobability", "[ 0.3 ]", G},
-    {"Integrator", "mlt", "float sigma", "[ 0.01 ]", G},
-    {"Integrator", "mlt", "bool regularize", "false", G},
+    {"Integrator", "mlt", "integer mutationsperpixel", "[ 1 ]", A},
+    {"Integrator", "mlt", "float largestepprobability", "[ 0.3 ]", A},
+    {"Integrator", "mlt", "float sigma", "[ 0.01 ]", A},
+    {"Integrator", "mlt", "bool regularize", "false", A},
 };
 // clang-format on
 

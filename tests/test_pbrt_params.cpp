@@ -124,9 +124,9 @@ void load(const PbrtParam& row, const std::string& text, const std::string& dir)
     RenderOptions opt;
     opt.spp = 1;
     opt.threads = 1;
-    if (std::string(row.type) == "mlt") {
-        opt.set["mlt.bootstrap"] = "16";
-        opt.set["mlt.chains"] = "2";
+    if (std::string(row.type) == "mlt") {  // pbrt-v4's mlt is our pssmlt
+        opt.set["pssmlt.bootstrap"] = "16";
+        opt.set["pssmlt.chains"] = "2";
     }
     render_scene(std::move(desc), opt);
 }
@@ -248,4 +248,42 @@ TEST(PbrtOption, OthersAreRefusedAtTheirLine) {
     expect_scene_error("Option \"rendercoordsys\" \"screen\"\n", 1, 1,
                        "unknown rendering coordinate system");
     expect_scene_error("Option \"wavefront\"\n", 2, 1, "Option expects a value");
+}
+
+TEST(PbrtMlt, RendersAsPssmltWithPbrtV4sNames) {
+    // pbrt-v4's "mlt" is Kelemen's MLT over BDPT's paths, our pssmlt: its names set pssmlt's
+    // settings, and its "mutationsperpixel" (not the sampler's 64) the samples per pixel.
+    const std::string text = R"(LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective"
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+Sampler "independent" "integer pixelsamples" [ 64 ]
+Integrator "mlt" "integer mutationsperpixel" [ 4 ] "float largestepprobability" [ 0.5 ]
+  "integer bootstrapsamples" [ 1000 ] "integer chains" [ 8 ] "float sigma" [ 0.02 ]
+  "bool regularize" false
+WorldBegin
+LightSource "point" "point3 from" [ 0 0 3 ]
+Shape "sphere" "float radius" [ 0.5 ]
+)";
+    RenderOptions opt;
+    opt.threads = 1;
+    RenderOutput out = render_scene(parse_scene_string(text, ".", "mlt.pbrt"), opt);
+    EXPECT_EQ(out.figures.integrator, "pssmlt");
+    EXPECT_EQ(out.figures.spp, 4);
+    const auto& s = out.figures.integrator_stats["pssmlt"];
+    EXPECT_EQ(s["bootstrap"], 1000);
+    EXPECT_EQ(s["chains"], 8);
+    EXPECT_FLOAT_EQ(s["large_step_prob"].get<float>(), 0.5f);
+    EXPECT_FLOAT_EQ(s["sigma"].get<float>(), 0.02f);
+    // --spp still decides, and a count that is not positive is an error at its line.
+    opt.spp = 2;
+    EXPECT_EQ(render_scene(parse_scene_string(text, ".", "mlt.pbrt"), opt).figures.spp, 2);
+    std::string bad = text;
+    bad.replace(bad.find("[ 4 ]"), 5, "[ 0 ]");
+    opt.spp.reset();
+    try {
+        render_scene(parse_scene_string(bad, ".", "mlt.pbrt"), opt);
+        ADD_FAILURE() << "mutationsperpixel 0 accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(e.formatted().find("mlt.pbrt:5"), std::string::npos) << e.formatted();
+    }
 }

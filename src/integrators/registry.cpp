@@ -100,6 +100,9 @@ std::vector<SettingDefault> integrator_settings(
 
 std::string integrator_for_pbrt_name(const std::string& pbrt_name) {
     if (pbrt_name == "volpath") return "path";
+    // pbrt-v4's "mlt" is Kelemen's primary-sample-space MLT over BDPT, our pssmlt; ours named
+    // mlt (Veach's, in path space) is there for --integrator mlt.
+    if (pbrt_name == "mlt") return "pssmlt";
     if (find_integrator(pbrt_name)) return pbrt_name;
     return "";
 }

@@ -268,6 +268,14 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
              !overrides.count(name + ".maxdepth"))
         overrides[name + ".maxdepth"] =
             std::to_string(desc.integrator.params.get_int("maxdepth", 5));
+    // pbrt-v4's "mlt" takes its samples per pixel from "mutationsperpixel" (100 unless given),
+    // not from the sampler; --spp and --time-limit still decide.
+    if (scene_params && desc.integrator.name == "mlt") {
+        const int mutations = desc.integrator.params.get_int("mutationsperpixel", 100);
+        if (mutations <= 0)
+            throw_input_error(desc.integrator.loc, "\"mutationsperpixel\" must be positive");
+        if (!opt.spp && !(opt.time_limit > 0)) spp = mutations;
+    }
     Settings settings(name, scene_params, overrides);
     auto integrator = info->create(settings);
     settings.check_unused();

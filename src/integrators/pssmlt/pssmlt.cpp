@@ -10,16 +10,23 @@ namespace ml {
 PssmltIntegrator::PssmltIntegrator(const Settings& settings) {
     m_max_depth = settings.get_int(
         "maxdepth", 5, {">= 0", "Longest path, in bounces; each chain keeps one depth."});
-    m_params.large_step_prob =
-        settings.get_float("large_step_prob", 0.3f,
-                           {"0 to 1", "Probability of a large step (fresh primary samples)."});
+    // pbrt-v4's "mlt" is this integrator (Kelemen's MLT over BDPT's paths): its names set the
+    // defaults of ours (its "mutationsperpixel" is the samples per pixel: render_job.cpp).
+    m_params.large_step_prob = settings.get_float(
+        "large_step_prob",
+        settings.get_float("largestepprobability", 0.3f,
+                           {"0 to 1", "pbrt-v4's name for large_step_prob (its \"mlt\")."}),
+        {"0 to 1", "Probability of a large step (fresh primary samples)."});
+    settings.get_bool("regularize", false, {"", "Accepted for pbrt-v4 scenes; no effect."});
     m_params.sigma = settings.get_float(
         "sigma", 0.01f,
         {"> 0", "Standard deviation of a small step's perturbation in primary sample space."});
-    m_bootstrap = settings.get_int("bootstrap", 100000,
-                                   {">= 1",
-                                    "Primary samples per depth whose BDPT paths estimate the "
-                                    "image's brightness; the chains start from them, resampled."});
+    m_bootstrap = settings.get_int(
+        "bootstrap",
+        settings.get_int("bootstrapsamples", 100000, {">= 1", "pbrt-v4's name for bootstrap."}),
+        {">= 1",
+         "Primary samples per depth whose BDPT paths estimate the "
+         "image's brightness; the chains start from them, resampled."});
     m_chains = settings.get_int("chains", 1000,
                                 {">= 1", "Chains in primary sample space, sharing the mutations."});
     m_estimator = settings.get_string("estimator", "bdpt",
