@@ -154,6 +154,9 @@ TEST(PbrtReference, AlphaOnCurves) {
 TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }
 TEST(PbrtReference, RealisticCamera) { expect_matches_pbrt("camera_realistic"); }
 TEST(PbrtReference, RealisticCameraStarAperture) { expect_matches_pbrt("camera_realistic_star"); }
+// An image file as the stop: an 8-bit grey L (pbrt-v4 keeps it 8-bit, so unscaled above 1), whose
+// pupil is not rotationally symmetric: the exit pupil's rotated bounds cut as much as pbrt-v4's.
+TEST(PbrtReference, RealisticCameraImageAperture) { expect_matches_pbrt("camera_realistic_image"); }
 TEST(PbrtReference, LoopSubdivShape) { expect_matches_pbrt("shape_loopsubdiv"); }
 // A crop window (the EXR's data window inside the display window): by path, by light paths
 // splatted into the crop, by bidirectional paths and by a many-light integrator.

@@ -181,7 +181,7 @@ TEST(RealisticCamera, ParametersAreCheckedAtTheirPlace) {
                         "\"string lensfile\" is required");
     expect_render_error("Camera \"realistic\" \"string lensfile\" \"" + kLens +
                             "\"\n  \"string aperture\" \"bokeh.png\"\nWorldBegin\n",
-                        2, 3, "images as apertures are not supported");
+                        2, 3, "cannot read image");
     expect_render_error(
         "Camera \"realistic\"\n  \"string lensfile\" \"nonexistent.dat\"\nWorldBegin\n", 2, 3,
         "cannot read the lens file");

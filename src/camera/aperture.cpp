@@ -1,8 +1,11 @@
 #include "camera/aperture.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <span>
+
+#include "core/assert.h"
 
 namespace ml {
 
@@ -45,6 +48,7 @@ bool ApertureImage::is_builtin_name(const std::string& name) {
 
 ApertureImage ApertureImage::builtin(const std::string& name) {
     ApertureImage im;
+    im.m_width = im.m_height = kRes;
     std::vector<float>& v = im.m_values;
     if (name == "gaussian") {
         v.resize(size_t(kRes) * kRes);
@@ -79,27 +83,43 @@ ApertureImage ApertureImage::builtin(const std::string& name) {
         }
         v = rasterize(p);
     } else {
-        return im;
+        return ApertureImage();
     }
-    // Flip the rows, then scale so that the mean is pi / 4.
-    for (int y = 0; y < kRes / 2; ++y)
-        for (int x = 0; x < kRes; ++x)
-            std::swap(v[size_t(y) * kRes + x], v[size_t(kRes - 1 - y) * kRes + x]);
-    double sum = 0;
-    for (float f : v) sum += f;
-    const float scale = float((kPi / 4) / (sum / double(v.size())));
-    for (float& f : v) f *= scale;
+    im.normalize();
     return im;
 }
 
+ApertureImage ApertureImage::from_values(int width, int height, std::vector<float> values,
+                                         bool at_most_one) {
+    ML_ASSERT(width > 0 && height > 0 && values.size() == size_t(width) * height,
+              "an aperture image of width x height values");
+    ApertureImage im;
+    im.m_width = width, im.m_height = height;
+    im.m_values = std::move(values);
+    im.normalize(at_most_one);
+    return im;
+}
+
+void ApertureImage::normalize(bool at_most_one) {
+    std::vector<float>& v = m_values;
+    for (int y = 0; y < m_height / 2; ++y)
+        for (int x = 0; x < m_width; ++x)
+            std::swap(v[size_t(y) * m_width + x], v[size_t(m_height - 1 - y) * m_width + x]);
+    double sum = 0;
+    for (float f : v) sum += f;
+    // (An image of zeros stops every ray, as pbrt-v4's would after its division by 0.)
+    const float scale = sum > 0 ? float((kPi / 4) / (sum / double(v.size()))) : 0.f;
+    for (float& f : v) f = at_most_one ? std::min(1.f, f * scale) : f * scale;
+}
+
 float ApertureImage::at(int x, int y) const {
-    if (x < 0 || y < 0 || x >= kRes || y >= kRes) return 0.f;
-    return m_values[size_t(y) * kRes + x];
+    if (x < 0 || y < 0 || x >= m_width || y >= m_height) return 0.f;
+    return m_values[size_t(y) * m_width + x];
 }
 
 float ApertureImage::lookup(float u, float w) const {
     // (u, w) in [-1, 1]^2 to [0, 1]^2, then bilinear among pixel centres.
-    float x = (u + 1) / 2 * kRes - 0.5f, y = (w + 1) / 2 * kRes - 0.5f;
+    float x = (u + 1) / 2 * float(m_width) - 0.5f, y = (w + 1) / 2 * float(m_height) - 0.5f;
     float xf = std::floor(x), yf = std::floor(y);
     int xi = int(xf), yi = int(yf);
     float dx = x - xf, dy = y - yf;

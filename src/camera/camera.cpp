@@ -13,7 +13,7 @@ namespace ml {
 PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
                                      const AnimatedTransform& camera_to_world, int width,
                                      int height, const std::string& type, float film_diagonal_mm,
-                                     const std::string& base_dir)
+                                     const std::string& base_dir, ApertureImage aperture_file)
     : m_motion(camera_to_world),
       m_moves(camera_to_world.is_animated()),
       m_camera_to_world(camera_to_world.start()),
@@ -46,7 +46,7 @@ PerspectiveCamera::PerspectiveCamera(const ParameterList& params,
     }
     if (m_projection == Projection::Realistic) {
         // pbrt-v4's realistic camera reads none of the projective cameras' parameters.
-        make_lens_system(params, film_diagonal_mm, base_dir);
+        make_lens_system(params, film_diagonal_mm, base_dir, std::move(aperture_file));
         m_tan_half_fov = 1, m_lens_radius = 0, m_focal_distance = 1e6f;
         m_screen[0] = m_screen[2] = -1, m_screen[1] = m_screen[3] = 1;
         m_image_area = 4;
@@ -121,7 +121,7 @@ Vec2 PerspectiveCamera::raster_of(const Vec3& p) const {
 }
 
 void PerspectiveCamera::make_lens_system(const ParameterList& params, float film_diagonal_mm,
-                                         const std::string& base_dir) {
+                                         const std::string& base_dir, ApertureImage aperture_file) {
     const Param* file = params.find("lensfile");
     std::string name = params.get_string("lensfile", "");
     if (!file || name.empty())
@@ -140,13 +140,14 @@ void PerspectiveCamera::make_lens_system(const ParameterList& params, float film
     ApertureImage aperture;
     if (const Param* a = params.find("aperture")) {
         std::string shape = params.get_string("aperture", "");
-        if (!shape.empty() && !ApertureImage::is_builtin_name(shape))
-            throw_input_error(a->loc,
-                              "realistic camera: aperture \"{}\": images as apertures are not "
-                              "supported by manylight (the built-in \"gaussian\", \"square\", "
-                              "\"pentagon\" and \"star\" are)",
-                              shape);
-        aperture = ApertureImage::builtin(shape);
+        if (!shape.empty() && !ApertureImage::is_builtin_name(shape)) {
+            if (aperture_file.empty())
+                throw_input_error(a->loc, "realistic camera: aperture image \"{}\" was not read",
+                                  shape);
+            aperture = std::move(aperture_file);
+        } else {
+            aperture = ApertureImage::builtin(shape);
+        }
     }
     if (!(film_diagonal_mm > 0))
         throw_input_error(params.loc(),

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "camera/aperture.h"
 #include "camera/lens_system.h"
 #include "core/animated_transform.h"
 #include "core/math.h"
@@ -45,10 +46,12 @@ public:
     // `type` is pbrt-v4's camera name: "perspective", "orthographic", "spherical" (which
     // reads "mapping" too; "fov" is the perspective camera's alone) or "realistic" (which reads
     // "lensfile", relative to `base_dir`, "aperturediameter", "focusdistance", "aperture" and
-    // the shutter, and images onto a film `film_diagonal_mm` across).
+    // the shutter, and images onto a film `film_diagonal_mm` across). An "aperture" that names
+    // an image file is `aperture_file`, which the caller has read (the camera reads no images).
     PerspectiveCamera(const ParameterList& params, const AnimatedTransform& camera_to_world,
                       int width, int height, const std::string& type = "perspective",
-                      float film_diagonal_mm = 35.f, const std::string& base_dir = "");
+                      float film_diagonal_mm = 35.f, const std::string& base_dir = "",
+                      ApertureImage aperture_file = {});
     Projection projection() const { return m_projection; }
     // Whether importance(), pdf_we() and sample_wi() exist (the perspective camera's alone).
     bool has_importance() const { return m_projection == Projection::Perspective; }
@@ -126,7 +129,7 @@ private:
     Ray spherical_ray(const CameraSample& s) const;
     // Reads the realistic camera's parameters and builds its lens system.
     void make_lens_system(const ParameterList& params, float film_diagonal_mm,
-                          const std::string& base_dir);
+                          const std::string& base_dir, ApertureImage aperture_file);
     std::shared_ptr<const LensSystem> m_lens;  // the realistic camera's
     Projection m_projection = Projection::Perspective;
     SphericalMapping m_mapping = SphericalMapping::EqualArea;

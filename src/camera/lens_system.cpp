@@ -244,7 +244,11 @@ float LensSystem::focus_thick_lens(float focus_distance, const FileLoc& loc) con
 PupilBounds LensSystem::bound_exit_pupil(float r0, float r1) const {
     // Rays from film points along [r0, r1] on the x axis to points of a square around the rear
     // element (half again its radius): the bounds of those that pass, grown by a sample spacing.
-    const int n_samples = 1 << 16;
+    // The bounds are rotated to each film point's angle, which holds for a round stop alone: a
+    // shaped stop (an aperture image) is not rotationally symmetric, so its rotated bounds cut
+    // some of its light, as much as pbrt-v4's do only with as many samples as pbrt-v4 takes
+    // (an L-shaped image stop: +3.2% against pbrt-v4 with 2^16, -0.2% with 2^20).
+    const int n_samples = m_aperture.empty() ? 1 << 16 : 1 << 20;
     const float rear = m_elements.back().aperture_radius * 1.5f;
     PupilBounds b;
     for (int i = 0; i < n_samples; ++i) {

@@ -17,6 +17,7 @@ struct Image {
     // True when the file held 8-bit (or other low-precision integer) values, which are usually
     // sRGB-encoded; the values here are as stored, scaled to [0, 1], not linearised.
     bool low_dynamic_range = false;
+    int channels = 3;  // the file's channels (read_image; a grey file's 1 comes back as RGB)
     // The data window's place in the display window (OpenImageIO's ImageSpec x, y, full_width,
     // full_height): a cropped render (Film "cropwindow"/"pixelbounds") holds only the crop's
     // pixels, at (x, y) of an image full_width x full_height. Full sizes of 0 mean the image is

@@ -55,6 +55,7 @@ Image read_image(const std::string& path, const FileLoc& loc) {
         img.x = spec.x, img.y = spec.y;
         img.full_width = spec.full_width, img.full_height = spec.full_height;
     }
+    img.channels = c;
     OIIO::TypeDesc fmt = spec.format;
     img.low_dynamic_range = fmt == OIIO::TypeDesc::UINT8 || fmt == OIIO::TypeDesc::INT8 ||
                             fmt == OIIO::TypeDesc::UINT16;

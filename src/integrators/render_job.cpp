@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -20,6 +21,7 @@
 #include "core/stats.h"
 #include "film/film.h"
 #include "film/filter.h"
+#include "film/image.h"
 #include "integrators/registry.h"
 #include "render/checkpoint.h"
 #include "scene/default_scene.h"
@@ -28,6 +30,33 @@
 namespace ml {
 
 namespace {
+
+// The realistic camera's "aperture" when it names an image file (pbrt-v4 reads any image; a
+// colour image's R, G and B are averaged), relative to the scene's folder; empty otherwise.
+ApertureImage aperture_file(const SceneDesc& desc) {
+    const Param* a = desc.camera.params.find("aperture");
+    if (desc.camera.name != "realistic" || !a) return {};
+    const std::string name = desc.camera.params.get_string("aperture", "");
+    if (name.empty() || ApertureImage::is_builtin_name(name)) return {};
+    std::filesystem::path path(name);
+    if (path.is_relative() && !desc.base_dir.empty())
+        path = std::filesystem::path(desc.base_dir) / path;
+    const Image image = read_image(path.lexically_normal().string(), a->loc);
+    std::vector<float> values(image.pixels.size());
+    double sum = 0;
+    // pbrt-v4 decodes 8-bit files from sRGB.
+    auto linear = [&](float v) { return image.low_dynamic_range ? srgb_to_linear(v) : v; };
+    for (size_t i = 0; i < values.size(); ++i) {
+        const RGB& p = image.pixels[i];
+        values[i] = (linear(p.r) + linear(p.g) + linear(p.b)) / 3;
+        sum += values[i];
+    }
+    if (!(sum > 0) || !std::isfinite(sum))
+        throw_input_error(a->loc, "realistic camera: the aperture image \"{}\" passes no light",
+                          name);
+    return ApertureImage::from_values(image.width, image.height, std::move(values),
+                                      image.low_dynamic_range && image.channels == 1);
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -229,7 +258,7 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                     : desc.camera_to_world();
     plan.camera.emplace(desc.camera.params, camera_to_world, width, height,
                         desc.camera.name.empty() ? "perspective" : desc.camera.name, film_diagonal,
-                        desc.base_dir);
+                        desc.base_dir, aperture_file(desc));
     desc.camera.params.check_unused();
     plan.camera->set_crop(crop.x0, crop.y0, crop.x1 - crop.x0, crop.y1 - crop.y0);
 
