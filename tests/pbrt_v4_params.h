@@ -334,7 +334,7 @@ inline const PbrtParam kPbrtV4Params[] = {
     {"Camera", "realistic", "string aperture", "\"square\"", A},
     {"Camera", "realistic", "string aperture", "\"pentagon\"", A},
     {"Camera", "realistic", "string aperture", "\"star\"", A},
-    {"Camera", "realistic", "string aperture", "\"$DIR/tex.exr\"", R},
+    {"Camera", "realistic", "string aperture", "\"$DIR/tex.exr\"", A},
     {"Camera", "realistic", "float shutteropen", "[ 0 ]", A},
     {"Camera", "realistic", "float shutterclose", "[ 1 ]", A},
     {"Camera", "spherical", "string mapping", "\"equirectangular\"", A},
