@@ -184,7 +184,12 @@ SamplePasses render_sample_passes(
         return out;
     };
     // A round cut short by the limit leaves its samples in some tiles: none is taken again.
-    if (!(ctx.time_limit > 0) || out.whole == 0 || out.whole >= passes || ctx.out_of_time())
+    // (The passes done are the same on every rank; whether the time is spent is rank 0's
+    // decision: a rank that ended here on its own clock while another went on to the all_min
+    // below left that one waiting for good, as Mpi.ReducedVplCountIsAgreedAcrossRanks did once in
+    // five runs on a loaded machine.)
+    if (!(ctx.time_limit > 0) || out.whole == 0 || out.whole >= passes ||
+        ctx.world_or_local().root_decides(ctx.out_of_time()))
         return finish();
     LastPass plan =
         last_pass(pass_samples, out.pass_seconds, fixed_share, ctx.time_limit - ctx.elapsed());
