@@ -107,8 +107,8 @@ void ApertureImage::normalize(bool at_most_one) {
             std::swap(v[size_t(y) * m_width + x], v[size_t(m_height - 1 - y) * m_width + x]);
     double sum = 0;
     for (float f : v) sum += f;
-    // (An image of zeros stops every ray, as pbrt-v4's would after its division by 0.)
-    const float scale = sum > 0 ? float((kPi / 4) / (sum / double(v.size()))) : 0.f;
+    ML_ASSERT(sum > 0, "an aperture that passes light (the caller refuses a black image)");
+    const float scale = float((kPi / 4) / (sum / double(v.size())));
     for (float& f : v) f = at_most_one ? std::min(1.f, f * scale) : f * scale;
 }
 
