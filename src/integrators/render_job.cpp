@@ -314,13 +314,14 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     // and gather points in media) carry light through them.
     if (has_media(desc)) {
         static const std::set<std::string> kMedia = {
-            "path",        "lighttracer",         "bdpt", "pssmlt", "vpl", "lightcuts",
-            "mdlightcuts", "stochasticlightcuts", "igi"};
+            "path",        "lighttracer",         "bdpt",        "pssmlt", "vpl", "lightcuts",
+            "mdlightcuts", "stochasticlightcuts", "bdlightcuts", "igi"};
         if (!kMedia.count(name))
             throw UsageError(fmt::format(
                 "integrator \"{}\" does not render participating media yet (the scene has "
                 "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt, "
-                "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts, stochasticlightcuts or igi",
+                "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts, stochasticlightcuts, "
+                "bdlightcuts or igi",
                 name));
         if (name != "path")
             for (const auto& m : desc.media)

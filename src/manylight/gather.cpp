@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "lights/light.h"
-#include "manylight/phase_bxdf.h"
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
+#include "transport/phase_bxdf.h"
 #include "transport/volume_path.h"
 
 namespace ml {
@@ -48,13 +48,8 @@ std::vector<EquiangularTarget> medium_gather_targets(const Scene& scene) {
     return targets;
 }
 
-namespace detail {
-
-namespace {
-
-// A gather point at p inside `medium`, reached along the unit ray direction d.
-GatherPoint medium_point(const Vec3& p, const Vec3& d, float time, const Medium* medium,
-                         const RGB& beta, ScratchBuffer& scratch) {
+GatherPoint medium_gather_point(const Vec3& p, const Vec3& d, float time, const Medium* medium,
+                                const RGB& beta, ScratchBuffer& scratch) {
     GatherPoint g;
     g.si.p = p;
     g.si.wo = -d;
@@ -66,6 +61,10 @@ GatherPoint medium_point(const Vec3& p, const Vec3& d, float time, const Medium*
     g.in_medium = true;
     return g;
 }
+
+namespace detail {
+
+namespace {
 
 RGB exp_neg(const RGB& x, float t) {
     if (!std::isfinite(t)) return RGB();
@@ -106,7 +105,7 @@ bool stratified_medium_points(const Medium& m, const Medium* medium, const UnitR
         if (!(pdf > 0) || !(s < len) || mp.sigma_s.is_black()) return;
         const RGB w = exp_neg(sigma_t, s) * mp.sigma_s / pdf;
         points->push_back(
-            medium_point(u.ray.at(seg->t0 + s), u.ray.d, time, medium, *beta * w, scratch));
+            medium_gather_point(u.ray.at(seg->t0 + s), u.ray.d, time, medium, *beta * w, scratch));
     };
     for (int k = 0; k < count; ++k) {
         const float uk = (float(k) + sampler.get_1d()) / float(count);
@@ -150,8 +149,8 @@ bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, Scratc
                 if (ev.event == MediumEvent::Absorb) return false;
                 if (ev.event == MediumEvent::Scatter) {
                     if (beta->is_black() || !beta->is_finite()) return false;
-                    points->push_back(
-                        medium_point(u.ray.at(ev.t), u.ray.d, ray.time, *medium, *beta, scratch));
+                    points->push_back(medium_gather_point(u.ray.at(ev.t), u.ray.d, ray.time,
+                                                          *medium, *beta, scratch));
                     return false;
                 }
             }

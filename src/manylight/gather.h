@@ -24,12 +24,17 @@ struct GatherPoint {
     // In a scene with participating media: the medium the camera path arrived in, and whether
     // the point is a scattering inside it rather than on a surface. A point in a medium has only
     // si.p, si.wo, si.time and a normal along wo; its bsdf is the medium's phase function
-    // (manylight/phase_bxdf.h), so that f |cos| is the phase function. `sampler` draws the shadow
+    // (transport/phase_bxdf.h), so that f |cos| is the phase function. `sampler` draws the shadow
     // rays' transmittance (ratio tracking through media that are not homogeneous).
     const Medium* medium = nullptr;
     bool in_medium = false;
     Sampler* sampler = nullptr;
 };
+
+// A gather point at p inside `medium`, reached along the unit ray direction d: si has p, wo =
+// -d, the normals along wo and the time, its bsdf the medium's phase function.
+GatherPoint medium_gather_point(const Vec3& p, const Vec3& d, float time, const Medium* medium,
+                                const RGB& beta, ScratchBuffer& scratch);
 
 // The medium a ray leaving g towards unit direction wi starts in.
 const Medium* medium_towards(const GatherPoint& g, const Vec3& wi);

@@ -117,12 +117,13 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
                             {">= 0",
                              "Longest light transport path, in bounces (the scene's `Integrator` "
                              "maxdepth, or --max-depth)."});
-    m.medium_points = s.get_int(
-        "gather.medium_points", m.medium_points,
-        {">= 0",
-         "Gather points on each stretch of a camera ray through a homogeneous medium, at "
-         "distances drawn stratified by its transmittance, plus one towards a light at a point "
-         "(0: one, where delta tracking finds the ray scatter)."});
+    if (defaults.gathers)
+        m.medium_points = s.get_int(
+            "gather.medium_points", m.medium_points,
+            {">= 0",
+             "Gather points on each stretch of a camera ray through a homogeneous medium, at "
+             "distances drawn stratified by its transmittance, plus one towards a light at a point "
+             "(0: one, where delta tracking finds the ray scatter)."});
     if (m.medium_points < 0 || m.medium_points > 256)
         throw UsageError("gather.medium_points must be 0 to 256");
     m.lights.vpl_count = s.get_int("vpl.count", kDefaultVplCount,

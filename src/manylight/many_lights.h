@@ -61,6 +61,9 @@ struct ManyLightSettings {
         float clamp = 0.f;
         const char* direct = "sample";
         int tree_reps = kLightTreeReps;  // 0: builds no light tree (tree.reps is not read)
+        // Whether camera paths gather with gather_along (gather.medium_points is read); false
+        // for an integrator that traces its own eye paths through media (bdlightcuts).
+        bool gathers = true;
     };
     static ManyLightSettings read(const Settings& s, const Defaults& defaults);
     static ManyLightSettings read(const Settings& s) { return read(s, Defaults{}); }

@@ -5,7 +5,6 @@
 
 #include "core/parallel.h"
 #include "lights/light_sampler.h"
-#include "manylight/phase_bxdf.h"
 #include "manylight/point_light_set.h"
 #include "materials/material.h"
 #include "sampling/distributions.h"
@@ -13,6 +12,7 @@
 #include "sampling/warps.h"
 #include "scene/scene.h"
 #include "transport/direct_lighting.h"
+#include "transport/phase_bxdf.h"
 #include "transport/volume_path.h"
 
 namespace ml {

@@ -91,7 +91,7 @@ void deposit_vpl(const SurfaceInteraction& si, const Bsdf& bsdf, const RGB& beta
                  VplChunk& chunk);
 // A VPL at a scattering inside a medium of phase asymmetry g, for flux `beta` arriving from wi
 // (unit, pointing back where the light came from): it re-emits through the phase function
-// (manylight/phase_bxdf.h), as an omni light where it is isotropic, else a glossy one about the
+// (transport/phase_bxdf.h), as an omni light where it is isotropic, else a glossy one about the
 // direction it favours. Appended to chunk.
 void deposit_medium_vpl(const Vec3& p, const Vec3& wi, float g, const RGB& beta, VplChunk& chunk);
 // Appends the first `count` VPLs of `chunks` (in order) to set, fluxes times `scale`.

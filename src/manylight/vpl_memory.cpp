@@ -6,9 +6,9 @@
 
 #include "core/error.h"
 #include "core/memory.h"
-#include "manylight/phase_bxdf.h"
 #include "materials/bxdfs.h"
 #include "materials/hair.h"
+#include "transport/phase_bxdf.h"
 
 namespace ml {
 

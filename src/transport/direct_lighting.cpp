@@ -1,6 +1,7 @@
 #include "transport/direct_lighting.h"
 
 #include "lights/light_sampler.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -33,8 +34,8 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis, float light_pmf,
                     const LightSampleWeight& weight, int bsdf_samples,
-                    const DirectionPdf& direction_pdf) {
-    LightSampleContext ctx = light_context(si);
+                    const DirectionPdf& direction_pdf, const DirectMedia* media) {
+    LightSampleContext ctx = vertex_context(si, media && media->in_medium);
     ctx.allow_incomplete_pdf = mis;
     auto ls = light.sample_li(ctx, u_light);
     if (!ls || ls->L.is_black() || ls->pdf_solid_angle == 0) return RGB();
@@ -42,7 +43,17 @@ RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf
     RGB f = f_bsdf * abs_dot(ls->wi, si.ns);
     if (f.is_black()) return RGB();
     const float sample_weight = weight ? weight(*ls, f_bsdf) : 1.f;
-    if (sample_weight == 0.f || !scene.visible(si, ls->p_light, ls->offset())) return RGB();
+    if (sample_weight == 0.f) return RGB();
+    RGB tr(1.f);
+    if (media) {
+        const Medium* start =
+            media->in_medium ? media->arrived : medium_after(si, ls->wi, media->arrived);
+        tr = transmittance(scene, si.p, si.offset(), ls->p_light, ls->offset(), start, si.time,
+                           *media->sampler);
+        if (tr.is_black()) return RGB();
+    } else if (!scene.visible(si, ls->p_light, ls->offset())) {
+        return RGB();
+    }
     RGB Ld;
     if (!mis || !light.met_by_rays()) {
         Ld = f * ls->L / ls->pdf_solid_angle;
@@ -52,6 +63,7 @@ RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf
         float w = power_heuristic(light_pmf * ls->pdf_solid_angle, float(bsdf_samples) * pdf_dir);
         Ld = f * ls->L * (w / ls->pdf_solid_angle);
     }
+    if (media) Ld *= tr;
     return weight ? Ld * sample_weight : Ld;
 }
 

@@ -14,6 +14,7 @@
 namespace ml {
 
 class LightSampler;
+class Medium;
 
 // Emission found by a ray that escaped (hit == null: infinite lights) or hit an area light.
 // From the camera and after delta bounces (`full_weight`) it counts whole; otherwise it is
@@ -34,11 +35,25 @@ RGB emission_along(const Scene& scene, const Ray& ray, const SurfaceInteraction*
 // against this one light sample by MIS (the power heuristic with the counts). `direction_pdf`, if
 // given, is the density of the caller's direction sampling in place of the BSDF's (a BSDF mixed
 // with a guide: path guiding).
+// `media`, if given, is where the point is in a scene with participating media: the shadow ray
+// takes the transmittance through them (transport/volume_path.h), and a point in a medium
+// (si with p, wo and time, bsdf the phase function of transport/phase_bxdf.h) has no surface.
 using LightSampleWeight = std::function<float(const LightLiSample& ls, const RGB& f)>;
 using DirectionPdf = std::function<float(const Vec3& wi)>;
+struct DirectMedia {
+    const Medium* arrived = nullptr;  // the medium the path arrived in
+    bool in_medium = false;           // a scattering point in `arrived`, on no surface
+    Sampler* sampler = nullptr;       // draws the transmittance where it is not closed-form
+};
 RGB estimate_direct(const Scene& scene, const SurfaceInteraction& si, const Bsdf& bsdf,
                     const Light& light, const Vec2& u_light, bool mis = true, float light_pmf = 1.f,
                     const LightSampleWeight& weight = {}, int bsdf_samples = 1,
-                    const DirectionPdf& direction_pdf = {});
+                    const DirectionPdf& direction_pdf = {}, const DirectMedia* media = nullptr);
+
+// Where a light sample is taken from at a path vertex: light_context at a surface, the point
+// alone in a medium.
+inline LightSampleContext vertex_context(const SurfaceInteraction& si, bool in_medium) {
+    return in_medium ? LightSampleContext{si.p, Vec3(), Vec3()} : light_context(si);
+}
 
 }  // namespace ml

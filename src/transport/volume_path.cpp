@@ -5,6 +5,7 @@
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
 #include "transport/mis.h"
+#include "transport/phase_bxdf.h"
 #include "transport/spawn.h"
 
 namespace ml {
@@ -226,31 +227,139 @@ RGB transmittance_to_surface(const Scene& scene, Ray ray, const Medium* medium, 
     return RGB();
 }
 
-RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler,
-                     ScratchBuffer& scratch, const LightSampler& light_sampler,
-                     const PathTraceOptions& options) {
-    RGB L, beta(1.f);
-    const Medium* medium = scene.camera_medium();
-    Ray ray = camera_ray;
+namespace {
+
+// The path tracer's state between vertices in a scene with media: trace_volumetric walks it
+// from the camera, continue_volumetric from a vertex another estimator reached.
+class VolumeWalk {
+public:
+    VolumeWalk(const Scene& scene, Sampler& sampler, ScratchBuffer& scratch,
+               const LightSampler& light_sampler, const PathTraceOptions& options)
+        : m_scene(scene),
+          m_sampler(sampler),
+          m_scratch(scratch),
+          m_lights(light_sampler),
+          m_options(options) {}
+
+    RGB L;
+    RGB beta{1.f};
+    const Medium* medium = nullptr;
+    Ray ray;
     int depth = 0;                  // scattering vertices so far, surface and medium alike
     bool specular_bounce = true;    // the camera ray, or a delta lobe: emission counts whole
     float prev_pdf = 0;             // the density of the last scattering direction
     LightSampleContext prev_ctx{};  // the point it left from
     float eta_scale = 1;
+    // The first vertex's weight by the direction it leaves in (FirstBounceWeight), kept out of
+    // beta as continue_path keeps it: Russian roulette looks at the throughput alone.
+    float path_weight = 1;
+
+    // The vertices from `ray` on, until the path ends.
+    void run() {
+        for (int crossings = 0; crossings < 4096; ++crossings)
+            if (!step()) return;
+    }
+
+    // Scattering at p in `medium`, reached along -wo: a light sample and the phase function's
+    // direction (weighted by `first` where given). `grey` and the unit segment u are the
+    // equiangular strategy's, for MIS (grey invalid: none). False when the path ends.
+    bool scatter_in_medium(const Vec3& p, const Vec3& wo, float time, const GreyTracking& grey,
+                           const UnitRay* u, float t_event, const FirstBounceWeight* first) {
+        const float g = medium->g();
+        const LightSampleContext ctx{p, Vec3(), Vec3()};
+        const Medium* here = medium;
+        const Bsdf phase = first ? phase_bsdf(wo, g, m_scratch) : Bsdf();
+        if (first && first->vanishes(phase, wo)) return false;
+        auto weight_of = [&](const Vec3& wi, const RGB* f) {
+            return first ? first->weight(phase, wo, wi, false, f) : 1.f;
+        };
+        add(beta * sample_direct(
+                       m_scene, ctx, Vec3(), time, m_lights, m_sampler,
+                       [&](const Vec3& wi) {
+                           const float ph = hg_phase(wo, wi, g);
+                           float w = 1.f;
+                           if (first) {
+                               const RGB f = phase.eval(wo, wi);
+                               w = weight_of(wi, &f);
+                           }
+                           return std::pair<RGB, float>(RGB(ph * w), ph);
+                       },
+                       [&](const Vec3&) { return here; },
+                       [&](const Light& light, float pmf) {
+                           // Against the segment's equiangular sample of this light.
+                           if (!grey.valid || !u || light.type() != LightType::DeltaPosition)
+                               return 1.f;
+                           const auto c = light_position(light);
+                           if (!c) return 1.f;
+                           const Equiangular eq(u->ray, u->tmax, *c);
+                           if (!eq.valid) return 1.f;
+                           return mis_square(pmf * grey.pdf_length(t_event),
+                                             m_lights.pmf(&light) * eq.pdf_length(t_event));
+                       }));
+        const Vec3 wi = sample_hg_phase(wo, g, m_sampler.get_2d());
+        if (first) path_weight = weight_of(wi, nullptr);
+        // The phase function is its own density: the throughput keeps its value.
+        prev_pdf = hg_phase(wo, wi, g);
+        prev_ctx = ctx;
+        specular_bounce = false;
+        ray = Ray{p, wi, kInfinity, time};
+        return path_weight != 0.f && survive();
+    }
+
+    // Scattering at surface si (not an interface), the path having arrived in `medium`.
+    bool scatter_at_surface(SurfaceInteraction& si, const FirstBounceWeight* first) {
+        Bsdf bsdf = hit_bsdf(si, m_scratch);
+        if (!bsdf) return false;
+        if (first && first->vanishes(bsdf, si.wo)) return false;
+        // Next-event estimation through the media, then the BSDF's direction.
+        if (bsdf.has_nonspecular()) {
+            const Medium* arrived = medium;
+            add(beta * sample_direct(
+                           m_scene, light_context(si), si.offset(), si.time, m_lights, m_sampler,
+                           [&](const Vec3& wi) {
+                               const RGB f = bsdf.eval(si.wo, wi);
+                               const float w =
+                                   first ? first->weight(bsdf, si.wo, wi, false, &f) : 1.f;
+                               return std::pair<RGB, float>(f * (abs_dot(wi, si.ns) * w),
+                                                            bsdf.pdf_solid_angle(si.wo, wi));
+                           },
+                           [&](const Vec3& wi) { return medium_after(si, wi, arrived); },
+                           [](const Light&, float) { return 1.f; }));
+        }
+        const float uc = m_sampler.get_1d();
+        const Vec2 u = m_sampler.get_2d();
+        const auto bs = bsdf.sample(si.wo, uc, u);
+        if (!bs) return false;
+        beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
+        if (first) path_weight = first->weight(bsdf, si.wo, bs->wi, bs->is_specular(), nullptr);
+        specular_bounce = bs->is_specular();
+        prev_pdf = bs->pdf_solid_angle;
+        prev_ctx = light_context(si);
+        if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
+        medium = medium_after(si, bs->wi, medium);
+        ray = spawn_ray(si, bs->wi);
+        return path_weight != 0.f && survive();
+    }
+
+private:
+    void add(const RGB& c) { L += c * path_weight; }
+
     // Russian roulette after a vertex's scattering sample; false: the path ends.
-    auto survive = [&] {
+    bool survive() {
         const float rr = (beta * eta_scale).max_component();
-        const float u = sampler.get_1d();
-        if (rr < 1.f && depth >= options.rr_depth) {
+        const float u = m_sampler.get_1d();
+        if (rr < 1.f && depth >= m_options.rr_depth) {
             const float q = std::max(0.f, 1.f - rr);
             if (u < q) return false;
             beta = beta / (1.f - q);
         }
         return !beta.is_black() && beta.is_finite();
-    };
-    for (int crossings = 0; crossings < 4096; ++crossings) {
+    }
+
+    // The medium along `ray` and what ends it; false when the path ends.
+    bool step() {
         SurfaceInteraction si;
-        const bool hit = scene.intersect(ray, &si);
+        const bool hit = m_scene.intersect(ray, &si);
 
         // 1. The medium between the ray's origin and the surface (or infinity).
         if (medium) {
@@ -258,91 +367,70 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
             // 1a. Single scattering towards one point light, at a distance drawn equiangularly,
             // weighed by MIS against the tracking below finding the same point.
             const GreyTracking grey =
-                options.equiangular ? GreyTracking(*medium, beta) : GreyTracking();
-            if (grey.valid && depth < options.max_depth)
-                L += beta * equiangular_single_scattering(scene, *medium, u.ray, u.tmax, grey,
-                                                          light_sampler, sampler);
-            const MediumCollision ev =
-                track_medium(*medium, u.ray, u.tmax, sampler, &beta, &L, depth < options.max_depth);
-            if (ev.event == MediumEvent::Absorb) break;
+                m_options.equiangular ? GreyTracking(*medium, beta) : GreyTracking();
+            if (grey.valid && depth < m_options.max_depth)
+                add(beta * equiangular_single_scattering(m_scene, *medium, u.ray, u.tmax, grey,
+                                                         m_lights, m_sampler));
+            RGB emitted;
+            const MediumCollision ev = track_medium(*medium, u.ray, u.tmax, m_sampler, &beta,
+                                                    &emitted, depth < m_options.max_depth);
+            add(emitted);
+            if (ev.event == MediumEvent::Absorb) return false;
             if (ev.event == MediumEvent::Scatter) {
-                if (depth++ >= options.max_depth) break;
-                const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
-                const float g = medium->g();
-                const LightSampleContext ctx{p, Vec3(), Vec3()};
-                const Medium* here = medium;
-                L += beta *
-                     sample_direct(
-                         scene, ctx, Vec3(), ray.time, light_sampler, sampler,
-                         [&](const Vec3& wi) {
-                             const float ph = hg_phase(wo, wi, g);
-                             return std::pair<RGB, float>(RGB(ph), ph);
-                         },
-                         [&](const Vec3&) { return here; },
-                         [&](const Light& light, float pmf) {
-                             // Against the segment's equiangular sample of this light.
-                             if (!grey.valid || light.type() != LightType::DeltaPosition)
-                                 return 1.f;
-                             const auto c = light_position(light);
-                             if (!c) return 1.f;
-                             const Equiangular eq(u.ray, u.tmax, *c);
-                             if (!eq.valid) return 1.f;
-                             return mis_square(pmf * grey.pdf_length(ev.t),
-                                               light_sampler.pmf(&light) * eq.pdf_length(ev.t));
-                         });
-                const Vec3 wi = sample_hg_phase(wo, g, sampler.get_2d());
-                // The phase function is its own density: the throughput keeps its value.
-                prev_pdf = hg_phase(wo, wi, g);
-                prev_ctx = ctx;
-                specular_bounce = false;
-                ray = Ray{p, wi, kInfinity, ray.time};
-                if (!survive()) break;
-                continue;
+                if (depth++ >= m_options.max_depth) return false;
+                return scatter_in_medium(u.ray.at(ev.t), -u.ray.d, ray.time, grey, &u, ev.t,
+                                         nullptr);
             }
         }
 
         // 2. The surface (or the sky): its emission, weighed against the last light sample.
-        L += beta * emission_along(scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf,
-                                   prev_ctx, &light_sampler);
-        if (!hit) break;
+        add(beta * emission_along(m_scene, ray, hit ? &si : nullptr, specular_bounce, prev_pdf,
+                                  prev_ctx, &m_lights));
+        if (!hit) return false;
         if (is_interface(si)) {
             // A medium boundary only: the ray goes on, in the medium beyond.
             medium = medium_after(si, ray.d, medium);
             ray = Ray{si.offset_origin(ray.d), ray.d, kInfinity, ray.time};
-            continue;
+            return true;
         }
-        if (depth >= options.max_depth) break;
+        if (depth >= m_options.max_depth) return false;
         ++depth;
-        Bsdf bsdf = hit_bsdf(si, scratch);
-        if (!bsdf) break;
-
-        // 3. Next-event estimation through the media, then the BSDF's direction.
-        if (bsdf.has_nonspecular()) {
-            const Medium* arrived = medium;
-            L += beta *
-                 sample_direct(
-                     scene, light_context(si), si.offset(), si.time, light_sampler, sampler,
-                     [&](const Vec3& wi) {
-                         return std::pair<RGB, float>(bsdf.eval(si.wo, wi) * abs_dot(wi, si.ns),
-                                                      bsdf.pdf_solid_angle(si.wo, wi));
-                     },
-                     [&](const Vec3& wi) { return medium_after(si, wi, arrived); },
-                     [](const Light&, float) { return 1.f; });
-        }
-        const float uc = sampler.get_1d();
-        const Vec2 u = sampler.get_2d();
-        const auto bs = bsdf.sample(si.wo, uc, u);
-        if (!bs) break;
-        beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
-        specular_bounce = bs->is_specular();
-        prev_pdf = bs->pdf_solid_angle;
-        prev_ctx = light_context(si);
-        if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
-        medium = medium_after(si, bs->wi, medium);
-        ray = spawn_ray(si, bs->wi);
-        if (!survive()) break;
+        return scatter_at_surface(si, nullptr);
     }
-    return L;
+
+    const Scene& m_scene;
+    Sampler& m_sampler;
+    ScratchBuffer& m_scratch;
+    const LightSampler& m_lights;
+    const PathTraceOptions& m_options;
+};
+
+}  // namespace
+
+RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler,
+                     ScratchBuffer& scratch, const LightSampler& light_sampler,
+                     const PathTraceOptions& options) {
+    VolumeWalk walk(scene, sampler, scratch, light_sampler, options);
+    walk.medium = scene.camera_medium();
+    walk.ray = camera_ray;
+    walk.run();
+    return walk.L;
+}
+
+RGB continue_volumetric(const Scene& scene, const VolumeVertex& v, int depth, RGB beta,
+                        Sampler& sampler, ScratchBuffer& scratch, const LightSampler& light_sampler,
+                        const PathTraceOptions& options, const FirstBounceWeight* first) {
+    if (depth >= options.max_depth) return RGB();
+    VolumeWalk walk(scene, sampler, scratch, light_sampler, options);
+    walk.medium = v.medium;
+    walk.beta = beta;
+    walk.depth = depth + 1;  // v itself
+    SurfaceInteraction si = v.si;
+    const bool goes_on = v.in_medium ? walk.scatter_in_medium(si.p, si.wo, si.time, GreyTracking(),
+                                                              nullptr, 0, first)
+                                     : walk.scatter_at_surface(si, first);
+    if (goes_on) walk.run();
+    return walk.L;
 }
 
 }  // namespace ml

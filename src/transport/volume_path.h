@@ -34,6 +34,23 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
                      ScratchBuffer& scratch, const LightSampler& light_sampler,
                      const PathTraceOptions& options);
 
+// A vertex where another estimator hands its path to the volumetric path tracer: a surface
+// point, the path having arrived in `medium`, or (in_medium) a scattering point in `medium`, of
+// which si has p, wo and time.
+struct VolumeVertex {
+    SurfaceInteraction si;
+    const Medium* medium = nullptr;
+    bool in_medium = false;
+};
+
+// continue_path through media: the radiance that paths continued past v bring back along v.si.wo,
+// times the throughput `beta` with which the caller reached v after `depth` scattering vertices;
+// v's own emission is the caller's. `first`, if given, weighs the paths by the direction they
+// leave v in (at a medium point its Bsdf is the phase function, transport/phase_bxdf.h).
+RGB continue_volumetric(const Scene& scene, const VolumeVertex& v, int depth, RGB beta,
+                        Sampler& sampler, ScratchBuffer& scratch, const LightSampler& light_sampler,
+                        const PathTraceOptions& options, const FirstBounceWeight* first = nullptr);
+
 // A ray with a unit direction, and the length its parameter had per unit: media work in
 // world distances.
 struct UnitRay {

@@ -16,6 +16,7 @@
 #include "transport/direct_lighting.h"
 #include "transport/path_tracer.h"
 #include "transport/spawn.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -93,7 +94,8 @@ public:
         if (!(f > 0)) return 0.f;
         // w_{j-1} needs D_j, the VSP's lobe between the eye and this light; M_j has the
         // connection's cosine (point_light_contribution's).
-        float dj = f * abs_dot(si.wo, p.g.bsdf.frame().n), mj = f * abs_dot(wi, si.ns);
+        float dj = eye_lobe_density(f, si.wo, wi, p.g.bsdf.frame().n, p.g.in_medium),
+              mj = f * abs_dot(wi, si.ns);
         float prefix = v.prefix;
         if (v.pending_mt >= 0)
             prefix += split_weight(m_o, prefix, v.pending_mt * dj, dj, v.pending_mu);
@@ -123,17 +125,23 @@ private:
 };
 
 // The remainder r of the paths that leave x_{J+1} (the vertex after the last VSP, x_J) along wi:
-// D_{J+1} is x_{J+1}'s lobe between x_J and wi (trace_eye's D for w_J); a delta lobe's sample
-// makes split J weigh 0 (pending_mt < 0).
+// D_{J+1} is x_{J+1}'s lobe between x_J and wi (trace_eye's D for w_J; in_medium: x_{J+1} is a
+// scattering point in a medium); a delta lobe's sample makes split J weigh 0 (pending_mt < 0).
 class RemainderWeight final : public FirstBounceWeight {
 public:
-    RemainderWeight(const SplitWeightOptions& o, float prefix, float pending_mt, float pending_mu)
-        : m_o(o), m_prefix(prefix), m_pending_mt(pending_mt), m_pending_mu(pending_mu) {}
+    RemainderWeight(const SplitWeightOptions& o, float prefix, float pending_mt, float pending_mu,
+                    bool in_medium)
+        : m_o(o),
+          m_prefix(prefix),
+          m_pending_mt(pending_mt),
+          m_pending_mu(pending_mu),
+          m_in_medium(in_medium) {}
 
     float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular,
                  const RGB* f) const override {
         if (specular) return remainder_weight(m_o, m_prefix, -1.f, 0.f, m_pending_mu);
-        float d = (f ? *f : bsdf.eval(wo, wi)).max_component() * abs_dot(wo, bsdf.frame().n);
+        const float d = eye_lobe_density((f ? *f : bsdf.eval(wo, wi)).max_component(), wo, wi,
+                                         bsdf.frame().n, m_in_medium);
         return remainder_weight(m_o, m_prefix, m_pending_mt, d, m_pending_mu);
     }
 
@@ -148,6 +156,7 @@ public:
 private:
     const SplitWeightOptions& m_o;
     float m_prefix, m_pending_mt, m_pending_mu;
+    bool m_in_medium;
 };
 
 // Each light node's flux, children before parents (whatever order the tree stores them).
@@ -177,6 +186,41 @@ std::vector<RGB> light_node_flux(const PointLightSet& set, const LightTree& tree
     return node_flux;
 }
 
+// What an eye path meets next in a scene with media.
+enum class EyeHit { Escaped, Surface, Medium, Absorbed };
+
+// The next vertex along *ray, which starts in *medium: delta tracking (with spectral tracking,
+// *beta taking its weights) finds a scattering in a medium (si: the point, *phase its phase
+// function, as a medium gather point has them) or lets the ray pass to the first surface that is
+// not an interface (*ray: its last stretch, for the emission met); the interfaces it crosses
+// move *medium on.
+EyeHit next_eye_hit(const Scene& scene, Ray* ray, Sampler& sampler, ScratchBuffer& scratch,
+                    const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase) {
+    for (int crossing = 0; crossing < 256; ++crossing) {
+        const bool hit = scene.intersect(*ray, si);
+        if (*medium) {
+            const UnitRay u = unit_ray(*ray, hit ? si->t : kInfinity);
+            RGB unused;
+            const MediumCollision ev =
+                track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
+            if (ev.event == MediumEvent::Absorb || beta->is_black() || !beta->is_finite())
+                return EyeHit::Absorbed;
+            if (ev.event == MediumEvent::Scatter) {
+                GatherPoint g = medium_gather_point(u.ray.at(ev.t), u.ray.d, ray->time, *medium,
+                                                    RGB(1.f), scratch);
+                *si = g.si;
+                *phase = g.bsdf;
+                return EyeHit::Medium;
+            }
+        }
+        if (!hit) return EyeHit::Escaped;
+        if (!is_interface(*si)) return EyeHit::Surface;
+        *medium = medium_after(*si, ray->d, *medium);
+        *ray = Ray{si->offset_origin(ray->d), ray->d, kInfinity, ray->time};
+    }
+    return EyeHit::Absorbed;
+}
+
 }  // namespace
 
 struct BdLightcutsIntegrator::ThreadState {
@@ -199,7 +243,9 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // The point-light set is `vpl`'s, with the emitters as point lights, whole BSDFs at the VPLs
     // and no clamping: the split weights do what those settings do for `vpl`.
     // lights.direct defaults to sample: bench/RESULTS.md, "Issue 17, session 14".
-    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample", kTreeReps});
+    // Its eye paths find their own vertices in media (delta tracking): gather.medium_points is
+    // not its setting.
+    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample", kTreeReps, false});
     read_vpl_sets(settings, &m_settings);
     // lights.direct=sample: the split that joins a VSP to an emitter by a light sample at the
     // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
@@ -318,13 +364,28 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
     // The share of the emission met at this hit that this path carries: 1 / the previous
     // vertex's BSDF samples for emission (the others are traced there, emission_samples).
     float emission_share = 1;
+    // In a scene with media: the medium the path is in, and whether this vertex is a scattering
+    // inside it (its BSDF the phase function) rather than on a surface.
+    const bool media = scene.has_media();
+    const Medium* medium = media ? scene.camera_medium() : nullptr;
     for (int depth = 0;; ++depth) {  // depth: scattering vertices before this hit
-        bool hit = scene.intersect(ray, &si);
+        bool hit, in_medium = false;
+        Bsdf phase;
+        if (media) {
+            const EyeHit h =
+                next_eye_hit(scene, &ray, sampler, ts.scratch, &medium, &s.beta, &si, &phase);
+            if (h == EyeHit::Absorbed) break;
+            hit = h != EyeHit::Escaped;
+            in_medium = h == EyeHit::Medium;
+        } else {
+            hit = scene.intersect(ray, &si);
+        }
         float t_prev = 1.f;
         if (s.pending && hit) t_prev = 1.f / std::max(1e-12f, length_squared(si.p - s.pending_p));
-        L += met_emission(scene, ray, hit ? &si : nullptr, s, t_prev, m_weights,
-                          m_nee_lights.get()) *
-             emission_share;
+        if (!in_medium)
+            L += met_emission(scene, ray, hit ? &si : nullptr, s, t_prev, m_weights,
+                              m_nee_lights.get()) *
+                 emission_share;
         emission_share = 1;
         if (!hit || depth >= m_settings.max_depth) break;
         if (vsps >= m_eye_length) {
@@ -333,7 +394,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             float pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
             if (m_rest_path &&
                 !remainder_vanishes(m_weights, s.prefix, pending_mt, kInfinity, s.pending_mu)) {
-                RemainderWeight r(m_weights, s.prefix, pending_mt, s.pending_mu);
+                RemainderWeight r(m_weights, s.prefix, pending_mt, s.pending_mu, in_medium);
                 // `rest_paths` of them, averaged (each with the whole throughput, which their
                 // Russian roulette looks at).
                 PathTraceOptions options{m_settings.max_depth, 1};
@@ -344,18 +405,23 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                     m_guide_paths.fetch_add(uint64_t(m_rest_paths), std::memory_order_relaxed);
                 }
                 for (int i = 0; i < m_rest_paths; ++i) {
-                    RGB rp = continue_path(scene, si, depth, s.beta, sampler, ts.scratch,
-                                           *m_nee_lights, options, &r) /
-                             float(m_rest_paths);
-                    L += rp;
+                    RGB rp = media ? continue_volumetric(scene, VolumeVertex{si, medium, in_medium},
+                                                         depth, s.beta, sampler, ts.scratch,
+                                                         *m_nee_lights, options, &r)
+                                   : continue_path(scene, si, depth, s.beta, sampler, ts.scratch,
+                                                   *m_nee_lights, options, &r);
+                    L += rp / float(m_rest_paths);
                 }
                 *rested = true;
             }
             break;
         }
-        Bsdf bsdf = hit_bsdf(si, ts.scratch);
+        Bsdf bsdf = in_medium ? phase : hit_bsdf(si, ts.scratch);
         if (!bsdf) break;
         Vec3 n = bsdf.frame().n;
+        // Where the vertex is, for the transmittance of its shadow rays through the media.
+        const DirectMedia here{medium, in_medium, &sampler};
+        const DirectMedia* through = media ? &here : nullptr;
         if (bsdf.has_nonspecular()) {
             // A VSP whose pairs all weigh 0 stays out of the VSP tree (vsp_weight_bound).
             float u_rep = sampler.get_1d();
@@ -364,8 +430,13 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             if (vsp_weight_bound(m_weights, s.prefix, pending_mt, max_vsp_density(bsdf, si.wo),
                                  s.pending_mu, mu) > 0) {
                 ts.vsps.push_back({s.prefix, pending_mt, s.pending_mu, mu, depth + 1});
-                ts.points.push_back({GatherPoint{si, bsdf, s.beta}, filter_weight, RGB(),
-                                     int32_t(ts.vsps.size() - 1)});
+                GatherPoint g{si, bsdf, s.beta};
+                if (media) {
+                    g.medium = medium;
+                    g.in_medium = in_medium;
+                    g.sampler = &sampler;
+                }
+                ts.points.push_back({g, filter_weight, RGB(), int32_t(ts.vsps.size() - 1)});
                 ts.uniforms.push_back(u_rep);
             }
             ++vsps;
@@ -378,7 +449,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             float f = f_ls.max_component();
             float pre = s.prefix;
             if (s.pending) {
-                float d = f * abs_dot(si.wo, n);
+                float d = eye_lobe_density(f, si.wo, ls.wi, n, in_medium);
                 pre += split_weight(m_weights, pre, s.pending_m * t_prev * d, d, s.pending_mu);
             }
             float m = f * abs_dot(ls.wi, si.ns), dk = 0, t = 1;
@@ -391,10 +462,8 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         };
         // The last split's weight for the emitter met from x_j along wi (x_{j+1} on it), w_j
         // being split j's for that point and pre the weights before it.
-        auto last_split = [&](const LightLiSample& ls, const RGB& f_ls, float pre, float w_j) {
-            float m = f_ls.max_component() * abs_dot(ls.wi, si.ns);
-            return emission_weight(m_weights, pre + w_j,
-                                   spread_mu(m_weights, s.theta + lobe_spread(m)));
+        auto last_split = [&](float pre, float w_j) {
+            return emission_weight(m_weights, pre + w_j);
         };
         // Whether split j's light sample is weighed by MIS, and whether it also carries the last
         // split's weight (emission=mis: the same path, x_j joined to a point of the emitter).
@@ -409,17 +478,17 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             if (last_by_light && (bsdf.flags() & kBxdfGlossy)) bsdf_samples = m_emission_samples;
             float u_select = sampler.get_1d();
             Vec2 u_light = sampler.get_2d();
-            if (auto sl = m_nee_lights->sample(light_context(si), u_select);
+            if (auto sl = m_nee_lights->sample(vertex_context(si, in_medium), u_select);
                 sl && !is_delta_light(sl->light->type())) {
                 const Light& light = *sl->light;
                 auto split_j = [&](const LightLiSample& ls, const RGB& f_ls) {
                     float pre;
                     float w = split_to_light(light, ls, f_ls, &pre);
-                    return last_by_light ? w + last_split(ls, f_ls, pre, w) : w;
+                    return last_by_light ? w + last_split(pre, w) : w;
                 };
                 L += s.beta *
                      estimate_direct(scene, si, bsdf, light, u_light, direct_mis, sl->pmf, split_j,
-                                     bsdf_samples) /
+                                     bsdf_samples, {}, through) /
                      sl->pmf;
             }
         }
@@ -430,17 +499,17 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         if (m_emission_mis && !m_direct_sample && bsdf.has_nonspecular()) {
             float u_select = sampler.get_1d();
             Vec2 u_light = sampler.get_2d();
-            if (auto sl = m_nee_lights->sample(light_context(si), u_select);
+            if (auto sl = m_nee_lights->sample(vertex_context(si, in_medium), u_select);
                 sl && !is_delta_light(sl->light->type())) {
                 const Light& light = *sl->light;
                 auto last_only = [&](const LightLiSample& ls, const RGB& f_ls) {
                     float pre;
                     const float w_j = split_to_light(light, ls, f_ls, &pre);
-                    return last_split(ls, f_ls, pre, w_j);
+                    return last_split(pre, w_j);
                 };
                 L += s.beta *
-                     estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf,
-                                     last_only) /
+                     estimate_direct(scene, si, bsdf, *sl->light, u_light, true, sl->pmf, last_only,
+                                     1, {}, through) /
                      sl->pmf;
             }
         }
@@ -452,16 +521,27 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             auto bs = bsdf.sample(si.wo, uc, u);
             if (!bs) continue;
             EyeState e = s;
-            if (!scatter(e, si, bsdf, *bs, direct_mis, last_by_light, bsdf_samples, t_prev,
-                         m_weights, m_direct_sample, m_emission_mis))
+            if (!scatter(e, si, in_medium, bsdf, *bs, direct_mis, last_by_light, bsdf_samples,
+                         t_prev, m_weights, m_direct_sample, m_emission_mis))
                 continue;
             Ray r = spawn_ray(si, bs->wi);
             SurfaceInteraction next;
-            bool next_hit = scene.intersect(r, &next);
+            bool next_hit;
+            // Through media, the emission met on the first surface past their interfaces, times
+            // the transmittance up to it (the main path's own scattering there is its own).
+            RGB tr(1.f);
+            if (media)
+                tr = transmittance_to_surface(scene, r,
+                                              in_medium ? medium : medium_after(si, bs->wi, medium),
+                                              sampler, &next, &next_hit);
+            else
+                next_hit = scene.intersect(r, &next);
+            if (tr.is_black()) continue;
             float t_next = 1.f;
             if (e.pending && next_hit)
                 t_next = 1.f / std::max(1e-12f, length_squared(next.p - e.pending_p));
-            L += met_emission(scene, r, next_hit ? &next : nullptr, e, t_next, m_weights,
+            L += tr *
+                 met_emission(scene, r, next_hit ? &next : nullptr, e, t_next, m_weights,
                               m_nee_lights.get()) /
                  float(bsdf_samples);
         }
@@ -469,11 +549,12 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
         Vec2 u = sampler.get_2d();
         auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) break;
-        if (!scatter(s, si, bsdf, *bs, direct_mis, last_by_light, bsdf_samples, t_prev, m_weights,
-                     m_direct_sample, m_emission_mis))
+        if (!scatter(s, si, in_medium, bsdf, *bs, direct_mis, last_by_light, bsdf_samples, t_prev,
+                     m_weights, m_direct_sample, m_emission_mis))
             break;
         emission_share = 1.f / float(bsdf_samples);
         ray = spawn_ray(si, bs->wi);
+        if (media && !in_medium) medium = medium_after(si, bs->wi, medium);
     }
     return L;
 }
@@ -491,6 +572,10 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                 "bdlightcuts: an invisible light (an emitting shape of \"alpha\" 0) needs "
                 "bdlightcuts.emission=mis and lights.direct_mis=always (the defaults): no eye path "
                 "meets it");
+    if (m_guiding && ctx.scene.has_media())
+        throw UsageError(
+            "bdlightcuts.guiding: the remainder paths are not guided in participating media "
+            "(the guide learns surface directions); render with bdlightcuts.guiding=off");
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     RenderResult result;

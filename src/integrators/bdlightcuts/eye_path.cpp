@@ -17,7 +17,7 @@ RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* h
         w_prev = split_weight(o, pre, s.pending_m * t_prev * dk, dk, s.pending_mu);
         pre += w_prev;
     }
-    RGB L = s.beta * le * emission_weight(o, pre, spread_mu(o, s.theta));
+    RGB L = s.beta * le * emission_weight(o, pre);
     if (s.prev_direct && w_prev > 0) {
         RGB le_mis =
             s.prev_nee ? le : emission_along(scene, ray, hit, false, s.prev_pdf, s.prev_ctx, nee);
@@ -26,20 +26,20 @@ RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* h
     return L;
 }
 
-bool scatter(EyeState& s, const SurfaceInteraction& si, const Bsdf& bsdf, const BsdfSample& bs,
-             bool direct_mis, bool last_by_light, int bsdf_samples, float t_prev,
-             const SplitWeightOptions& o, bool direct_sample, bool emission_mis) {
+bool scatter(EyeState& s, const SurfaceInteraction& si, bool in_medium, const Bsdf& bsdf,
+             const BsdfSample& bs, bool direct_mis, bool last_by_light, int bsdf_samples,
+             float t_prev, const SplitWeightOptions& o, bool direct_sample, bool emission_mis) {
     const Vec3& n = bsdf.frame().n;
     s.prev_nee = !bs.is_specular() && (direct_sample ? last_by_light : emission_mis);
     s.prev_direct = direct_mis && !bs.is_specular();
     s.prev_pdf = bs.pdf_solid_angle * float(bsdf_samples);
-    s.prev_ctx = light_context(si);
+    s.prev_ctx = vertex_context(si, in_medium);
     if (bs.is_specular()) {
         s.pending = false;  // neither a VSP nor a VPL here on this path: its splits weigh 0
     } else {
         float f = bsdf.eval(si.wo, bs.wi).max_component();
         if (s.pending) {
-            float d = f * abs_dot(si.wo, n);
+            float d = eye_lobe_density(f, si.wo, bs.wi, n, in_medium);
             s.prefix += split_weight(o, s.prefix, s.pending_m * t_prev * d, d, s.pending_mu);
         }
         s.pending = true;

@@ -33,6 +33,15 @@ struct EyeState {
     LightSampleContext prev_ctx;
 };
 
+// D at an eye vertex with normal n: its lobe between the eye (wo) and wi, f(wo, wi) |cos wo|
+// at a surface (f: the largest channel of the BSDF's value); at a scattering point in a medium
+// the phase function itself, f |cos wo| |cos wi| of its Bxdf (transport/phase_bxdf.h).
+inline float eye_lobe_density(float f, const Vec3& wo, const Vec3& wi, const Vec3& n,
+                              bool in_medium) {
+    const float d = f * abs_dot(wo, n);
+    return in_medium ? d * abs_dot(wi, n) : d;
+}
+
 // The emission met along `ray` (hit: the surface, else null), weighted as the path's last split
 // (what the earlier splits left), and the previous vertex's split to that emitter by its BSDF
 // sample's share. t_prev: 1 / the squared length of the segment from the pending split's vertex.
@@ -40,11 +49,12 @@ RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* h
                  const EyeState& s, float t_prev, const SplitWeightOptions& o,
                  const LightSampler* nee);
 
-// The path's state past vertex si (BSDF bsdf, shading normal n) along BSDF sample bs: its split
-// there pending, and the MIS of what bs meets weighed by `bsdf_samples` BSDF samples. False when
-// the path ends (no throughput).
-bool scatter(EyeState& s, const SurfaceInteraction& si, const Bsdf& bsdf, const BsdfSample& bs,
-             bool direct_mis, bool last_by_light, int bsdf_samples, float t_prev,
-             const SplitWeightOptions& o, bool direct_sample, bool emission_mis);
+// The path's state past vertex si (BSDF bsdf, shading normal n; in_medium: a scattering point
+// in a medium, bsdf its phase function) along BSDF sample bs: its split there pending, and the
+// MIS of what bs meets weighed by `bsdf_samples` BSDF samples. False when the path ends (no
+// throughput).
+bool scatter(EyeState& s, const SurfaceInteraction& si, bool in_medium, const Bsdf& bsdf,
+             const BsdfSample& bs, bool direct_mis, bool last_by_light, int bsdf_samples,
+             float t_prev, const SplitWeightOptions& o, bool direct_sample, bool emission_mis);
 
 }  // namespace ml

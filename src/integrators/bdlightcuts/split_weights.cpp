@@ -21,11 +21,8 @@ float split_weight(const SplitWeightOptions& o, float prefix, float mtd, float d
     return std::isnan(w) ? 0.f : std::max(0.f, w);
 }
 
-float emission_weight(const SplitWeightOptions& o, float prefix, float mu) {
-    float w = 1.f;
-    if (o.energy) w = std::min(w, 1.f - prefix);
-    if (o.variance) w = std::min(w, mu - prefix);
-    return std::max(0.f, w);
+float emission_weight(const SplitWeightOptions& o, float prefix) {
+    return o.energy ? std::max(0.f, 1.f - prefix) : 1.f;
 }
 
 float vsp_weight_bound(const SplitWeightOptions& o, float prefix, float pending_mt, float dj_max,
@@ -34,7 +31,11 @@ float vsp_weight_bound(const SplitWeightOptions& o, float prefix, float pending_
         float mtd = pending_mt > 0 ? pending_mt * dj_max : 0.f;
         prefix += split_weight(o, prefix, mtd, dj_max, pending_mu);
     }
-    return emission_weight(o, prefix, mu);
+    // What the energy and variance weights leave for split j.
+    float w = 1.f;
+    if (o.energy) w = std::min(w, 1.f - prefix);
+    if (o.variance) w = std::min(w, mu - prefix);
+    return std::max(0.f, w);
 }
 
 float remainder_weight(const SplitWeightOptions& o, float prefix, float pending_mt, float d,

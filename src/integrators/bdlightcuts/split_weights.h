@@ -47,9 +47,12 @@ float lobe_spread(float m);
 // d = D_{j+1} and mu = mu_j. Disabled weights count as +infinity; the result is in [0, 1].
 float split_weight(const SplitWeightOptions& o, float prefix, float mtd, float d, float mu);
 
-// The weight of the eye path finding an emitter at x_k (the last split): energy and variance
-// only, as there is no connection to clamp.
-float emission_weight(const SplitWeightOptions& o, float prefix, float mu);
+// The weight of the eye path finding an emitter at x_k (the last split): what the earlier splits
+// left, 1 - S_k (1 without the energy weight). No later split can take a part of this path, so
+// neither clamping (there is no connection) nor the variance weight applies: capped at mu_k, the
+// path lost 1 - mu_k of its light whenever the eye path had spread (about 1% of a forward-
+// scattering cloud's light at max depth 2, each vertex in it spreading by up to 5 radians).
+float emission_weight(const SplitWeightOptions& o, float prefix);
 
 // An upper bound, over every light, of the weights of a VSP's pairs (SplitWeighting::weight).
 // pending_mt: M_{j-1} T_{j-1,j} (< 0: no split j-1); dj_max: an upper bound of D_j over every

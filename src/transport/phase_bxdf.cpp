@@ -1,4 +1,4 @@
-#include "manylight/phase_bxdf.h"
+#include "transport/phase_bxdf.h"
 
 #include <algorithm>
 #include <cmath>
