@@ -234,12 +234,15 @@ TEST_F(Cli, OutputInAMissingFolderNamesTheUsersPath) {
     EXPECT_FALSE(fs::exists(path("x.png")));
 }
 
-// pbrt-v4's film scales by exposuretime * iso / 100; spectral sensors and white balance are
-// errors at their place, never silently ignored.
+// pbrt-v4's film scales by the exposure time (the camera's shutter interval) * iso / 100;
+// spectral sensors and white balance are errors at their place, never silently ignored, and
+// "exposuretime" is no film parameter of pbrt-v4's.
 TEST_F(Cli, FilmExposureScalesAndSpectralSensorsAreErrors) {
-    auto scene = [&](const std::string& name, const std::string& film) {
+    auto scene = [&](const std::string& name, const std::string& film,
+                     const std::string& camera = "") {
         std::string text = kTinyScene;
         text.replace(text.find("Film \"rgb\""), 10, "Film \"rgb\" " + film);
+        text.replace(text.find("Camera \"perspective\""), 20, "Camera \"perspective\" " + camera);
         return write(name, text);
     };
     auto mean = [&](const std::string& file) {
@@ -249,10 +252,15 @@ TEST_F(Cli, FilmExposureScalesAndSpectralSensorsAreErrors) {
         return nlohmann::json::parse(d.output).at("mean_a").at(0).get<double>();
     };
     double plain = mean(scene("plain.pbrt", ""));
-    double bright =
-        mean(scene("bright.pbrt", "\"float iso\" [ 400 ] \"float exposuretime\" [ 0.5 ]"));
+    double bright = mean(scene("bright.pbrt", "\"float iso\" [ 400 ]",
+                               "\"float shutteropen\" [ 0.25 ] \"float shutterclose\" [ 0.75 ]"));
     ASSERT_GT(plain, 0);
     EXPECT_NEAR(bright / plain, 2.0, 1e-3);
+    // A shutter of no length (which pbrt-v4 refuses) freezes time: an exposure of 1.
+    double instant = mean(scene("instant.pbrt", "",
+                                "\"float shutteropen\" [ 0.5 ] \"float shutterclose\" [ 0.5 ]"));
+    EXPECT_NEAR(instant / plain, 1.0, 1e-3);
+    expect_input_error(scene("time.pbrt", "\"float exposuretime\" [ 0.5 ]"), "exposuretime");
     expect_input_error(scene("sensor.pbrt", "\"string sensor\" [ \"canon_eos_100d\" ]"),
                        "sensor.pbrt:3:");
     expect_input_error(scene("wb.pbrt", "\"float whitebalance\" [ 5000 ]"), "wb.pbrt:3:");

@@ -15,7 +15,7 @@ namespace ml {
 
 class Film {
 public:
-    // `imaging_ratio` scales every sample and splat (pbrt-v4's exposuretime * iso / 100); the
+    // `imaging_ratio` scales every sample and splat (pbrt-v4's exposure time * iso / 100); the
     // clamp to `max_component_value` applies after it, as in pbrt-v4.
     Film(int width, int height, float max_component_value = kInfinity, float imaging_ratio = 1.f);
     int width() const { return m_width; }

@@ -209,16 +209,20 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     float max_component = film_params.get_float("maxcomponentvalue", kInfinity);
     film_params.get_bool("savefp16", true);
     const float film_diagonal = film_params.get_float("diagonal", 35.f);
-    // pbrt-v4's RGB film scales what its sensor sees by exposuretime * iso / 100. Its default
-    // sensor, cie1931, with no white balance, is the identity on RGB; the spectral sensors and
-    // white balancing need spectra, which manylight does not carry, so they are errors.
-    float imaging_ratio =
-        film_params.get_float("exposuretime", 1.f) * film_params.get_float("iso", 100.f) / 100.f;
-    if (!(imaging_ratio > 0) || !std::isfinite(imaging_ratio))
-        throw_input_error(film_params.find("iso") ? film_params.find("iso")->loc
-                                                  : film_params.find("exposuretime")->loc,
-                          "exposuretime * iso / 100 must be positive and finite, got {}",
-                          imaging_ratio);
+    // pbrt-v4's RGB film scales what its sensor sees by the exposure time, the camera's shutter
+    // interval (shutterclose - shutteropen, 1 by default), times iso / 100. Its default sensor,
+    // cie1931, with no white balance, is the identity on RGB; the spectral sensors and white
+    // balancing need spectra, which manylight does not carry, so they are errors. A shutter that
+    // opens and closes at one instant, which pbrt-v4 refuses, freezes time there: it is taken as
+    // an exposure of 1 (a closing before the opening is the camera's error).
+    float exposure = desc.camera.params.get_float("shutterclose", 1.f) -
+                     desc.camera.params.get_float("shutteropen", 0.f);
+    if (!(exposure > 0)) exposure = 1.f;
+    const float iso = film_params.get_float("iso", 100.f);
+    if (!(iso > 0) || !std::isfinite(iso))
+        throw_input_error(film_params.find("iso")->loc, "\"iso\" must be positive and finite, got {}",
+                          iso);
+    const float imaging_ratio = exposure * iso / 100.f;
     if (std::string sensor = film_params.get_string("sensor", "cie1931"); sensor != "cie1931")
         throw_input_error(film_params.find("sensor")->loc,
                           "sensor \"{}\" needs spectral rendering; manylight renders in RGB and "
