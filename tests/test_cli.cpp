@@ -257,8 +257,8 @@ TEST_F(Cli, FilmExposureScalesAndSpectralSensorsAreErrors) {
     ASSERT_GT(plain, 0);
     EXPECT_NEAR(bright / plain, 2.0, 1e-3);
     // A shutter of no length (which pbrt-v4 refuses) freezes time: an exposure of 1.
-    double instant = mean(scene("instant.pbrt", "",
-                                "\"float shutteropen\" [ 0.5 ] \"float shutterclose\" [ 0.5 ]"));
+    double instant = mean(
+        scene("instant.pbrt", "", "\"float shutteropen\" [ 0.5 ] \"float shutterclose\" [ 0.5 ]"));
     EXPECT_NEAR(instant / plain, 1.0, 1e-3);
     expect_input_error(scene("time.pbrt", "\"float exposuretime\" [ 0.5 ]"), "exposuretime");
     expect_input_error(scene("sensor.pbrt", "\"string sensor\" [ \"canon_eos_100d\" ]"),
