@@ -193,8 +193,9 @@ inline const PbrtParam kPbrtV4Params[] = {
     {"Material", "subsurface", "bool remaproughness", "false", A},
     {"Material", "subsurface", "texture displacement", "\"ftex\"", A},
     {"Material", "subsurface", "string normalmap", "\"$DIR/tex.exr\"", A},
-    {"Material", "subsurface", "rgb reflectance", "[ 0.5 0.5 0.5 ]", R},
-    {"Material", "subsurface", "rgb mfp", "[ 1 1 1 ]", R},
+    {"Material", "subsurface", "rgb reflectance", "[ 0.5 0.5 0.5 ]", A},
+    // (pbrt-v4 reads "mfp" only with "reflectance")
+    {"Material", "subsurface", "rgb mfp", "[ 1 1 1 ] \"rgb reflectance\" [ 0.5 0.5 0.5 ]", A},
     {"Material", "interface", "", "", A},
     // ---- MakeNamedMedium (media.cpp) ----
     {"MakeNamedMedium", "homogeneous", "rgb sigma_a", "[ 0.1 0.2 0.3 ]", A},

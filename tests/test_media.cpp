@@ -14,6 +14,7 @@
 #include "chi2.h"
 #include "core/rng.h"
 #include "core/scratch.h"
+#include "materials/beam_diffusion.h"
 #include "media/medium.h"
 #include "parser_test_helpers.h"
 #include "render_helpers.h"
@@ -694,10 +695,47 @@ TEST(Subsurface, IsItsDielectricBoundaryOverItsMeasuredMedium) {
     }
 }
 
+TEST(Subsurface, ReflectanceInvertsAsPbrtV4sDiffusionTable) {
+    // "reflectance" gives each channel the single-scattering albedo whose diffuse reflectance by
+    // photon beam diffusion is that reflectance. The albedos pbrt-v4 (5f7a606) finds, printed by
+    // a program linked against its library (BSSRDFTable(100, 64), ComputeBeamDiffusionBSSRDF,
+    // InvertCatmullRom), for g, eta and reflectance:
+    struct Case {
+        float g, eta, reflectance;
+        double rho;
+    };
+    const Case cases[] = {{0, 1.33f, 0.05f, 0.4207084},    {0, 1.33f, 0.2f, 0.8182444},
+                          {0, 1.33f, 0.5f, 0.9695290},     {0, 1.33f, 0.8f, 0.9965813},
+                          {0, 1.5f, 0.05f, 0.4970460},     {0, 1.5f, 0.2f, 0.8725300},
+                          {0, 1.5f, 0.5f, 0.9813302},      {0, 1.5f, 0.8f, 0.9980794},
+                          {0.5f, 1.33f, 0.05f, 0.7027565}, {0.5f, 1.33f, 0.2f, 0.9270585},
+                          {0.5f, 1.33f, 0.5f, 0.9887539},  {0.5f, 1.5f, 0.2f, 0.9482870},
+                          {0.5f, 1.5f, 0.5f, 0.9926683}};
+    for (const Case& c : cases) {
+        const BeamDiffusionTable table(c.g, c.eta);
+        const double rho = table.albedo_for(c.reflectance);
+        // Near an albedo of 1 the reflectance moves with 1 - rho: compare that, within 2%.
+        EXPECT_NEAR(1 - rho, 1 - c.rho, 0.02 * (1 - c.rho) + 1e-6)
+            << "g " << c.g << ", eta " << c.eta << ", reflectance " << c.reflectance;
+        EXPECT_NEAR(table.effective_albedo(float(rho)), c.reflectance, 1e-4);
+    }
+    // The coefficients: sigma_s = rho / mfp, sigma_a = (1 - rho) / mfp.
+    const BeamDiffusionTable table(0, 1.33f);
+    RGB sa, ss;
+    subsurface_from_diffuse(table, RGB(0.05f, 0.2f, 0.5f), RGB(0.5f, 1, 2), &sa, &ss);
+    EXPECT_NEAR(ss.r, 0.4207084 / 0.5, 0.02);
+    EXPECT_NEAR(sa.g, 1 - 0.8182444, 0.004);
+    EXPECT_NEAR(ss.b + sa.b, 0.5, 1e-6);
+}
+
 TEST(Subsurface, WhatItCannotTakeSaysSo) {
     const std::string head = "WorldBegin\nMaterial \"subsurface\" ";
-    expect_scene_error(head + "\"rgb reflectance\" [ 0.5 0.5 0.5 ]\n", 2, 23,
-                       "\"reflectance\" (pbrt-v4 inverts it through its diffusion profile's");
+    expect_scene_error(head + "\"rgb mfp\" [ 1 1 1 ]\n", 2, 23,
+                       "\"mfp\" goes with \"reflectance\"");
+    expect_scene_error(head + "\"rgb reflectance\" [ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 1 1 1 ]\n", 2,
+                       23, "\"reflectance\" gives sigma_a and sigma_s");
+    expect_scene_error(head + "\"rgb reflectance\" [ 0.5 0.5 0.5 ] \"rgb mfp\" [ 1 0 1 ]\n", 2, 57,
+                       "the mean free path (\"mfp\" times \"scale\") must be positive");
     expect_scene_error(head + "\"string name\" [ \"Jam\" ]\n", 2, 23,
                        "unknown \"name\" \"Jam\" (pbrt-v4's are \"Apple\"");
     expect_scene_error(head + "\"string name\" [ \"Apple\" ] \"float g\" [ 0.5 ]\n", 2, 49,

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/scattering_presets.h"
+#include "materials/beam_diffusion.h"
 #include "materials/hair.h"
 #include "materials/materials.h"
 #include "materials/textures.h"
@@ -125,15 +126,36 @@ std::unique_ptr<Material> create_subsurface(const ParameterList& params, const M
                               name);
         return c.value;
     };
-    if (params.has("reflectance") || params.has("mfp")) {
-        const char* name = params.has("reflectance") ? "reflectance" : "mfp";
-        throw_input_error(loc_of(params, name, loc),
-                          "subsurface: \"{}\" (pbrt-v4 inverts it through its diffusion "
-                          "profile's table) is not supported: give \"sigma_a\" and \"sigma_s\", "
-                          "or a measured medium's \"name\"",
-                          name);
-    }
-    if (params.has("name")) {
+    // The four ways pbrt-v4 gives the medium, one at a time (it leaves the others unused, which
+    // is an error): a measured medium's "name", "sigma_a" and "sigma_s", "reflectance" (with
+    // "mfp"), or none (skim milk).
+    const bool by_reflectance = params.has("reflectance");
+    if (params.has("mfp") && !by_reflectance)
+        throw_input_error(loc_of(params, "mfp", loc),
+                          "subsurface: \"mfp\" goes with \"reflectance\"");
+    if (by_reflectance && (params.has("name") || params.has("sigma_a") || params.has("sigma_s")))
+        throw_input_error(loc_of(params, "reflectance", loc),
+                          "subsurface: \"reflectance\" gives sigma_a and sigma_s; leave out "
+                          "\"name\", \"sigma_a\" and \"sigma_s\"");
+    const FloatParam eta = mp.get_float("eta", 1.33f);
+    if (eta.tex)
+        throw_input_error(loc_of(params, "eta", loc),
+                          "subsurface: a textured \"eta\" is not supported");
+    const float scale = params.get_float("scale", 1);
+    if (!(scale >= 0) || !std::isfinite(scale))
+        throw_input_error(loc_of(params, "scale", loc), "subsurface: \"scale\" must be >= 0");
+    if (by_reflectance) {
+        // pbrt-v4's inversion through photon beam diffusion (materials/beam_diffusion.h);
+        // "scale" multiplies the mean free path.
+        const RGB reflectance = constant("reflectance");
+        const RGB mfp = (params.has("mfp") ? constant("mfp") : RGB(1)) * scale;
+        if (!(mfp.r > 0 && mfp.g > 0 && mfp.b > 0) || !mfp.is_finite())
+            throw_input_error(loc_of(params, params.has("mfp") ? "mfp" : "scale", loc),
+                              "subsurface: the mean free path (\"mfp\" times \"scale\") must be "
+                              "positive and finite");
+        subsurface_from_diffuse(BeamDiffusionTable(m.g, eta.value), reflectance, mfp, &m.sigma_a,
+                                &m.sigma_s);
+    } else if (params.has("name")) {
         const std::string name = params.get_string("name", "");
         const auto preset = scattering_preset(name);
         if (!preset)
@@ -161,20 +183,15 @@ std::unique_ptr<Material> create_subsurface(const ParameterList& params, const M
         m.sigma_a = RGB(.0011f, .0024f, .014f);
         m.sigma_s = RGB(2.55f, 3.21f, 3.77f);
     }
-    const float scale = params.get_float("scale", 1);
-    if (!(scale >= 0) || !std::isfinite(scale))
-        throw_input_error(loc_of(params, "scale", loc), "subsurface: \"scale\" must be >= 0");
-    m.sigma_a *= scale;
-    m.sigma_s *= scale;
+    if (!by_reflectance) {
+        m.sigma_a *= scale;
+        m.sigma_s *= scale;
+    }
     for (const RGB& c : {m.sigma_a, m.sigma_s})
         if (!(c.r >= 0 && c.g >= 0 && c.b >= 0) || !c.is_finite())
             throw_input_error(loc,
                               "subsurface: \"sigma_a\" and \"sigma_s\" must be finite and "
                               "non-negative");
-    const FloatParam eta = mp.get_float("eta", 1.33f);
-    if (eta.tex)
-        throw_input_error(loc_of(params, "eta", loc),
-                          "subsurface: a textured \"eta\" is not supported");
     return std::make_unique<DielectricMaterial>(eta, mp.roughness(0), std::move(displacement), m);
 }
 
