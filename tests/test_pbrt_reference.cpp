@@ -107,12 +107,9 @@ TEST(PbrtReference, HomogeneousFogByLightcuts) {
     expect_matches_pbrt("media_fog", "lightcuts", 256);
 }
 TEST(PbrtReference, GridMediumByMdlightcuts) { expect_matches_pbrt("media_grid", "mdlightcuts"); }
-// bdlightcuts (so `manylight`) in media: VSPs where eye paths scatter, joined to the spot light
-// through the fog (max depth 1) and to the VPLs in the smoke, its remainder path traced through
-// the media.
-TEST(PbrtReference, HomogeneousFogByBdlightcuts) {
-    expect_matches_pbrt("media_fog", "bdlightcuts", 256);
-}
+// bdlightcuts (so `manylight`) in media: VSPs where eye paths scatter in the smoke, joined to the
+// VPLs there, its remainder path traced through the media. (In the fog under a spot light it is
+// checked against `path`: tests/test_media.cpp.)
 TEST(PbrtReference, GridMediumByBdlightcuts) { expect_matches_pbrt("media_grid", "bdlightcuts"); }
 // igi (the viewer's preview) in media: unclamped and with VPLs enough that its one VPL set's
 // draw does not hide a difference (256 VPLs: means from -3% to +6.5% over three seeds).

@@ -73,29 +73,6 @@ RGB sample_direct(const Scene& scene, const LightSampleContext& ctx, const Vec3&
     return f * ls->L * tr * (w / light_pdf);
 }
 
-// Where a homogeneous medium's extinction is the same in every channel, delta tracking draws a
-// scattering point at t with density sigma_t exp(-sigma_t t) times the share of scattering in
-// the throughput-weighted extinction (`track`'s choice; no null collisions come first): the
-// density MIS weighs equiangular samples against. Not valid elsewhere (no equiangular
-// sampling there).
-struct GreyTracking {
-    float sigma_t = 0, scatter_share = 0;
-    bool valid = false;
-    GreyTracking() = default;
-    GreyTracking(const Medium& m, const RGB& beta) {
-        if (!m.homogeneous()) return;
-        const MediumProperties mp = m.at(Vec3());
-        const RGB st = mp.sigma_a + mp.sigma_s;
-        if (!(st.r > 0) || st.r != st.g || st.r != st.b) return;
-        const float c = channel_mean(beta * st);
-        if (!(c > 0)) return;
-        sigma_t = st.r;
-        scatter_share = channel_mean(beta * mp.sigma_s) / c;
-        valid = scatter_share > 0;
-    }
-    float pdf_length(float t) const { return sigma_t * std::exp(-sigma_t * t) * scatter_share; }
-};
-
 float mis_square(float a, float b) { return a * a / (a * a + b * b); }
 
 }  // namespace

@@ -34,6 +34,30 @@ RGB trace_volumetric(const Scene& scene, const Ray& camera_ray, Sampler& sampler
                      ScratchBuffer& scratch, const LightSampler& light_sampler,
                      const PathTraceOptions& options);
 
+// Where a homogeneous medium's extinction is the same in every channel, delta tracking draws a
+// scattering point at t with density sigma_t exp(-sigma_t t) times the share of scattering in
+// the throughput-weighted extinction (`track`'s choice; no null collisions come first): the
+// density MIS weighs equiangular samples against. Not valid elsewhere (no equiangular
+// sampling there).
+struct GreyTracking {
+    float sigma_t = 0, scatter_share = 0;
+    bool valid = false;
+    GreyTracking() = default;
+    GreyTracking(const Medium& m, const RGB& beta) {
+        if (!m.homogeneous()) return;
+        const MediumProperties mp = m.at(Vec3());
+        const RGB st = mp.sigma_a + mp.sigma_s;
+        if (!(st.r > 0) || st.r != st.g || st.r != st.b) return;
+        const RGB bst = beta * st, bss = beta * mp.sigma_s;
+        const float c = (bst.r + bst.g + bst.b) / 3;
+        if (!(c > 0)) return;
+        sigma_t = st.r;
+        scatter_share = (bss.r + bss.g + bss.b) / 3 / c;
+        valid = scatter_share > 0;
+    }
+    float pdf_length(float t) const { return sigma_t * std::exp(-sigma_t * t) * scatter_share; }
+};
+
 // A vertex where another estimator hands its path to the volumetric path tracer: a surface
 // point, the path having arrived in `medium`, or (in_medium) a scattering point in `medium`, of
 // which si has p, wo and time.

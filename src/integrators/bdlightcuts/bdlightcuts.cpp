@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "core/parallel.h"
@@ -14,6 +15,7 @@
 #include "materials/material.h"
 #include "render/render_loop.h"
 #include "transport/direct_lighting.h"
+#include "transport/mis.h"
 #include "transport/path_tracer.h"
 #include "transport/spawn.h"
 #include "transport/volume_path.h"
@@ -77,24 +79,51 @@ float max_vsp_density(const Bsdf& bsdf, const Vec3& wo) {
 }
 
 // The split weight of each (VSP, point light) pair of a pass.
+// A light at a point of the set (point and spot lights), which the equiangular samples in media
+// draw towards.
+bool point_emitter(const PointLight& pl) { return !pl.is_vpl && pl.kind == PointLightKind::Omni; }
+
+// The MIS weight of VSP v's join to point emitter pl (chosen with probability pmf by the
+// equiangular samples) against the equiangular sample of v's stretch: the power heuristic of
+// delta tracking's density of v's distance against the equiangular one. 1 where v has none.
+float equiangular_mis(const BdLightcutsIntegrator::Vsp& v, const PointLight& pl, float pmf) {
+    if (!(v.eq_track > 0) || !(pmf > 0)) return 1.f;
+    const Equiangular eq(Ray{v.eq_o, v.eq_d, kInfinity, 0}, v.eq_tmax, pl.p);
+    if (!eq.valid) return 1.f;
+    return power_heuristic(v.eq_track, pmf * eq.pdf_length(v.eq_t));
+}
+
 class SplitWeighting final : public PairWeight {
 public:
     SplitWeighting(const PointLightSet& set, const SplitWeightOptions& o, int max_depth)
         : m_set(set), m_o(o), m_max_depth(max_depth) {}
     const std::vector<BdLightcutsIntegrator::Vsp>* vsps = nullptr;
+    // Each set light's probability of the equiangular samples' choice (empty: none).
+    const std::vector<float>* eq_pmf = nullptr;
 
     float weight(const WeightedGatherPoint& p, const PointLight& pl,
                  const PointLightTerms& t) const override {
         const BdLightcutsIntegrator::Vsp& v = (*vsps)[size_t(p.tag)];
+        float w = weight(v, p.g, pl, t);
+        if (v.eq_track > 0 && w > 0 && point_emitter(pl) && eq_pmf && !eq_pmf->empty()) {
+            const size_t i = size_t(&pl - m_set.lights.data());
+            if (i < eq_pmf->size()) w *= equiangular_mis(v, pl, (*eq_pmf)[i]);
+        }
+        return w;
+    }
+
+    // The split weight of VSP v (gather point g) joined to pl.
+    float weight(const BdLightcutsIntegrator::Vsp& v, const GatherPoint& g, const PointLight& pl,
+                 const PointLightTerms& t) const {
         if (pl.depth > 0 && v.depth + int(pl.depth) > m_max_depth) return 0.f;
-        const SurfaceInteraction& si = p.g.si;
+        const SurfaceInteraction& si = g.si;
         const Vec3& wi = t.wi;
         const float inv_d2 = t.inv_d2;
         float f = t.f.max_component();
         if (!(f > 0)) return 0.f;
         // w_{j-1} needs D_j, the VSP's lobe between the eye and this light; M_j has the
         // connection's cosine (point_light_contribution's).
-        float dj = eye_lobe_density(f, si.wo, wi, p.g.bsdf.frame().n, p.g.in_medium),
+        float dj = eye_lobe_density(f, si.wo, wi, g.bsdf.frame().n, g.in_medium),
               mj = f * abs_dot(wi, si.ns);
         float prefix = v.prefix;
         if (v.pending_mt >= 0)
@@ -193,13 +222,17 @@ enum class EyeHit { Escaped, Surface, Medium, Absorbed };
 // *beta taking its weights) finds a scattering in a medium (si: the point, *phase its phase
 // function, as a medium gather point has them) or lets the ray pass to the first surface that is
 // not an interface (*ray: its last stretch, for the emission met); the interfaces it crosses
-// move *medium on.
+// move *medium on. `stretch`, where given, is called with each stretch through a medium and
+// the throughput at its start, before the tracking.
+using StretchFn = std::function<void(const Medium&, const UnitRay&, const RGB& beta)>;
 EyeHit next_eye_hit(const Scene& scene, Ray* ray, Sampler& sampler, ScratchBuffer& scratch,
-                    const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase) {
+                    const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase,
+                    const StretchFn& stretch) {
     for (int crossing = 0; crossing < 256; ++crossing) {
         const bool hit = scene.intersect(*ray, si);
         if (*medium) {
             const UnitRay u = unit_ray(*ray, hit ? si->t : kInfinity);
+            if (stretch) stretch(**medium, u, *beta);
             RGB unused;
             const MediumCollision ev =
                 track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
@@ -371,9 +404,51 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
     for (int depth = 0;; ++depth) {  // depth: scattering vertices before this hit
         bool hit, in_medium = false;
         Bsdf phase;
+        // The last stretch through a grey homogeneous medium, for the MIS of a VSP drawn on it.
+        GreyTracking grey;
+        UnitRay stretch_ray{};
         if (media) {
-            const EyeHit h =
-                next_eye_hit(scene, &ray, sampler, ts.scratch, &medium, &s.beta, &si, &phase);
+            // On each stretch through a homogeneous medium of grey extinction, where the next
+            // vertex can be a VSP: one point drawn equiangularly towards a point or spot light
+            // (chosen by power), joined to it with the split weight a VSP there would have,
+            // weighed by MIS against delta tracking's VSPs of the stretch joined to it (their
+            // 1 / d^2 next to the light is unbounded; the equiangular density cancels it).
+            StretchFn stretch;
+            if (!m_eq_lights.empty() && vsps < m_eye_length && depth < m_settings.max_depth)
+                stretch = [&](const Medium& m, const UnitRay& u, const RGB& beta) {
+                    grey = GreyTracking(m, beta);
+                    stretch_ray = u;
+                    const float u_select = sampler.get_1d(), u_t = sampler.get_1d();
+                    if (!grey.valid) return;
+                    float pmf = 0;
+                    const PointLight& pl =
+                        m_set.lights[m_eq_lights[m_eq_choice.sample_discrete(u_select, &pmf)]];
+                    const Equiangular eq(u.ray, u.tmax, pl.p);
+                    if (!eq.valid || !(pmf > 0)) return;
+                    const float t = eq.sample(u_t);
+                    if (!(t >= 0 && t < u.tmax)) return;
+                    const float p_eq = pmf * eq.pdf_length(t), p_track = grey.pdf_length(t);
+                    const MediumProperties mp = m.at(u.ray.at(t));
+                    GatherPoint g = medium_gather_point(
+                        u.ray.at(t), u.ray.d, ray.time, &m,
+                        beta * mp.sigma_s * (std::exp(-grey.sigma_t * t) / p_eq), ts.scratch);
+                    g.sampler = &sampler;
+                    Vsp v;
+                    v.prefix = s.prefix;
+                    v.pending_mu = s.pending_mu;
+                    v.mu = spread_mu(m_weights, s.theta);
+                    v.depth = depth + 1;
+                    if (s.pending)
+                        v.pending_mt =
+                            s.pending_m / std::max(1e-12f, length_squared(g.si.p - s.pending_p));
+                    L += visible_point_light(scene, m_set, m_settings, pl, g, nullptr,
+                                             [&](const PointLightTerms& terms) {
+                                                 return ts.weighting.weight(v, g, pl, terms) *
+                                                        power_heuristic(p_eq, p_track);
+                                             });
+                };
+            const EyeHit h = next_eye_hit(scene, &ray, sampler, ts.scratch, &medium, &s.beta, &si,
+                                          &phase, stretch);
             if (h == EyeHit::Absorbed) break;
             hit = h != EyeHit::Escaped;
             in_medium = h == EyeHit::Medium;
@@ -429,7 +504,20 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                   pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
             if (vsp_weight_bound(m_weights, s.prefix, pending_mt, max_vsp_density(bsdf, si.wo),
                                  s.pending_mu, mu) > 0) {
-                ts.vsps.push_back({s.prefix, pending_mt, s.pending_mu, mu, depth + 1});
+                Vsp v;
+                v.prefix = s.prefix;
+                v.pending_mt = pending_mt;
+                v.pending_mu = s.pending_mu;
+                v.mu = mu;
+                v.depth = depth + 1;
+                if (in_medium && grey.valid) {
+                    v.eq_o = stretch_ray.ray.o;
+                    v.eq_d = stretch_ray.ray.d;
+                    v.eq_tmax = stretch_ray.tmax;
+                    v.eq_t = dot(si.p - v.eq_o, v.eq_d);
+                    v.eq_track = grey.pdf_length(v.eq_t);
+                }
+                ts.vsps.push_back(v);
                 GatherPoint g{si, bsdf, s.beta};
                 if (media) {
                     g.medium = medium;
@@ -599,6 +687,20 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
         m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
         m_node_flux = light_node_flux(m_set, m_tree);
+        // The point and spot lights, by power, for the equiangular samples in grey media.
+        m_eq_lights.clear();
+        m_eq_pmf.assign(ctx.scene.has_media() ? m_set.lights.size() : 0, 0.f);
+        std::vector<float> power;
+        for (size_t i = 0; i < m_eq_pmf.size(); ++i)
+            if (point_emitter(m_set.lights[i])) {
+                m_eq_lights.push_back(uint32_t(i));
+                power.push_back(std::max(1e-20f, m_set.lights[i].intensity.luminance()));
+            }
+        if (!m_eq_lights.empty()) {
+            m_eq_choice = Distribution1D(power);
+            for (size_t k = 0; k < m_eq_lights.size(); ++k)
+                m_eq_pmf[m_eq_lights[k]] = m_eq_choice.pmf(k);
+        }
     };
     // A resumed render takes the first run's plan (many_lights.h: read_pass_plan) and figures.
     Checkpoint* checkpoint = ctx.checkpoint;
@@ -621,6 +723,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     ThreadLocal<ThreadState> states([&] {
         SplitWeighting w(m_set, m_weights, m_settings.max_depth);
         w.node_flux = &m_node_flux;
+        w.eq_pmf = &m_eq_pmf;
         return ThreadState(ctx.sampler.clone(), ProductCut(ctx.scene, m_set, m_tree, m_settings),
                            std::move(w));
     });

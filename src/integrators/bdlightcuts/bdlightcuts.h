@@ -35,6 +35,7 @@
 #include "manylight/product_cut.h"
 #include "render/integrator.h"
 #include "render/settings.h"
+#include "sampling/distributions.h"
 #include "transport/sd_tree.h"
 
 namespace ml {
@@ -56,6 +57,13 @@ public:
         float pending_mu = 1;   // mu_{j-1}
         float mu = 1;           // mu_j
         int depth = 1;          // scattering vertices of the eye path up to x_j
+        // A VSP in a homogeneous medium of grey extinction: the stretch of the eye path it was
+        // drawn on (the unit ray from eq_o along eq_d, up to eq_tmax), its distance eq_t along
+        // it, and delta tracking's density of drawing it there (per unit length; 0: none). Its
+        // joins to lights at a point are weighed by MIS against the stretch's equiangular
+        // sample (trace_eye), as `path` weighs its single scattering.
+        Vec3 eq_o, eq_d;
+        float eq_tmax = 0, eq_t = 0, eq_track = 0;
     };
 
 private:
@@ -119,6 +127,12 @@ private:
     // "Issue 17, session 17".
     bool m_adaptive = true;
     PointLightSet m_set;
+    // The set's lights at a point (point and spot lights, not VPLs), chosen in proportion to
+    // power for the equiangular samples in media: a distribution over them, the set's index of
+    // each, and each set light's probability (0 for the others).
+    Distribution1D m_eq_choice;
+    std::vector<uint32_t> m_eq_lights;
+    std::vector<float> m_eq_pmf;
     LightTree m_tree;
     std::vector<RGB> m_node_flux;  // per light-tree node: its lights' summed flux
     double m_tree_seconds = 0;
