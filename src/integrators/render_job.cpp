@@ -220,8 +220,8 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     if (!(exposure > 0)) exposure = 1.f;
     const float iso = film_params.get_float("iso", 100.f);
     if (!(iso > 0) || !std::isfinite(iso))
-        throw_input_error(film_params.find("iso")->loc, "\"iso\" must be positive and finite, got {}",
-                          iso);
+        throw_input_error(film_params.find("iso")->loc,
+                          "\"iso\" must be positive and finite, got {}", iso);
     const float imaging_ratio = exposure * iso / 100.f;
     if (std::string sensor = film_params.get_string("sensor", "cie1931"); sensor != "cie1931")
         throw_input_error(film_params.find("sensor")->loc,
