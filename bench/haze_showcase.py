@@ -7,7 +7,7 @@ Writes docs/images/haze-showcase.png (the two renders on top, their error below:
 relative squared error, (x - r)^2 / (r^2 + 0.01), averaged over the channels, on a log scale,
 black 1e-4 or less, white 1 or more) and prints the table of spp, relMSE and channel means.
 
-Usage: /usr/bin/python3 bench/haze_showcase.py [--integrator stochasticlightcuts] [--seconds 20]
+Usage: /usr/bin/python3 bench/haze_showcase.py [--integrator manylight] [--seconds 20]
     [--ref-seconds 480] [--ref REF.pfm] [--seed 1] [--out docs/images/haze-showcase.png]
     [--bin build/manylight]
 (--ref: a reference rendered before, `path` for --ref-seconds at seed 4242, as a .pfm.)
@@ -28,7 +28,7 @@ ROOT = gallery.ROOT
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--integrator", default="stochasticlightcuts")
+    ap.add_argument("--integrator", default="manylight")
     ap.add_argument("--seconds", type=float, default=20)
     ap.add_argument("--ref-seconds", type=float, default=480)
     ap.add_argument("--ref", default="", help="a reference rendered before (.pfm)")

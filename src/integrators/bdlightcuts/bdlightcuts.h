@@ -27,6 +27,7 @@
 #include <memory>
 #include <vector>
 
+#include "integrators/bdlightcuts/pair_weights.h"
 #include "integrators/bdlightcuts/split_weights.h"
 #include "lights/light_sampler.h"
 #include "manylight/light_tree.h"
@@ -50,21 +51,8 @@ public:
     // (Not with guided remainders: the guide is not saved.)
     bool can_checkpoint() const override { return !m_guiding; }
 
-    // What a VSP at eye vertex x_j keeps for its pairs' weights.
-    struct Vsp {
-        float prefix = 0;       // w_1 + ... + w_{j-2}: the weights fixed by the eye path alone
-        float pending_mt = -1;  // M_{j-1} T_{j-1,j}, for w_{j-1} (< 0: split j-1 is impossible)
-        float pending_mu = 1;   // mu_{j-1}
-        float mu = 1;           // mu_j
-        int depth = 1;          // scattering vertices of the eye path up to x_j
-        // A VSP in a homogeneous medium of grey extinction: the stretch of the eye path it was
-        // drawn on (the unit ray from eq_o along eq_d, up to eq_tmax), its distance eq_t along
-        // it, and delta tracking's density of drawing it there (per unit length; 0: none). Its
-        // joins to lights at a point are weighed by MIS against the stretch's equiangular
-        // sample (trace_eye), as `path` weighs its single scattering.
-        Vec3 eq_o, eq_d;
-        float eq_tmax = 0, eq_t = 0, eq_track = 0;
-    };
+    // What a VSP keeps for its pairs' weights (pair_weights.h).
+    using Vsp = VspWeightState;
 
 private:
     struct ThreadState;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "manylight/gather.h"
 #include "transport/direct_lighting.h"
 
 namespace ml {
@@ -50,6 +51,35 @@ bool scatter(EyeState& s, const SurfaceInteraction& si, bool in_medium, const Bs
     }
     s.beta *= bs.f * (abs_dot(bs.wi, n) / bs.pdf_solid_angle);
     return !s.beta.is_black() && s.beta.is_finite();
+}
+
+EyeHit next_eye_hit(const Scene& scene, Ray* ray, Sampler& sampler, ScratchBuffer& scratch,
+                    const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase,
+                    const StretchFn& stretch) {
+    for (int crossing = 0; crossing < 256; ++crossing) {
+        const bool hit = scene.intersect(*ray, si);
+        if (*medium) {
+            const UnitRay u = unit_ray(*ray, hit ? si->t : kInfinity);
+            if (stretch) stretch(**medium, u, *beta);
+            RGB unused;
+            const MediumCollision ev =
+                track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
+            if (ev.event == MediumEvent::Absorb || beta->is_black() || !beta->is_finite())
+                return EyeHit::Absorbed;
+            if (ev.event == MediumEvent::Scatter) {
+                GatherPoint g = medium_gather_point(u.ray.at(ev.t), u.ray.d, ray->time, *medium,
+                                                    RGB(1.f), scratch);
+                *si = g.si;
+                *phase = g.bsdf;
+                return EyeHit::Medium;
+            }
+        }
+        if (!hit) return EyeHit::Escaped;
+        if (!is_interface(*si)) return EyeHit::Surface;
+        *medium = medium_after(*si, ray->d, *medium);
+        *ray = Ray{si->offset_origin(ray->d), ray->d, kInfinity, ray->time};
+    }
+    return EyeHit::Absorbed;
 }
 
 }  // namespace ml

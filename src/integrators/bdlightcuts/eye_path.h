@@ -4,12 +4,15 @@
 // trace_eye, which also gives every extra BSDF sample of bdlightcuts.emission_samples its own).
 #pragma once
 
+#include <functional>
+
 #include "core/color.h"
 #include "geometry/interaction.h"
 #include "integrators/bdlightcuts/split_weights.h"
 #include "lights/light.h"
 #include "materials/bsdf.h"
 #include "scene/scene.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -56,5 +59,19 @@ RGB met_emission(const Scene& scene, const Ray& ray, const SurfaceInteraction* h
 bool scatter(EyeState& s, const SurfaceInteraction& si, bool in_medium, const Bsdf& bsdf,
              const BsdfSample& bs, bool direct_mis, bool last_by_light, int bsdf_samples,
              float t_prev, const SplitWeightOptions& o, bool direct_sample, bool emission_mis);
+
+// What an eye path meets next in a scene with media.
+enum class EyeHit { Escaped, Surface, Medium, Absorbed };
+
+// The next vertex along *ray, which starts in *medium: delta tracking (with spectral tracking,
+// *beta taking its weights) finds a scattering in a medium (si: the point, *phase its phase
+// function, as a medium gather point has them) or lets the ray pass to the first surface that is
+// not an interface (*ray: its last stretch, for the emission met); the interfaces it crosses
+// move *medium on. `stretch`, where given, is called with each stretch through a medium and
+// the throughput at its start, before the tracking.
+using StretchFn = std::function<void(const Medium&, const UnitRay&, const RGB& beta)>;
+EyeHit next_eye_hit(const Scene& scene, Ray* ray, Sampler& sampler, ScratchBuffer& scratch,
+                    const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase,
+                    const StretchFn& stretch);
 
 }  // namespace ml
