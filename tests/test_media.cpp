@@ -401,6 +401,28 @@ TEST(Media, AnEmittingMediumGlowsAsItsClosedForm) {
     for (int c = 0; c < 3; ++c) expect_channel(img, c, Le[c] * (1 - std::exp(-2 * sigma[c])), 0.05);
 }
 
+TEST(Media, BdptAndPssmltCarryTheLightOfAnEmittingMediumAsPathDoes) {
+    // A glowing, scattering, coloured cloud over a grey floor beside an area light: the cloud's
+    // light reaches the camera directly, by the floor and by scattering in the cloud, and only
+    // eye paths find it (BDPT's s = 0, weight one). Max depth 3 also checks that emission after
+    // k scattering vertices is counted at depth k + 1, as `path` counts it; per channel, pixel
+    // by pixel, against path.
+    std::string scene = coloured_cloud("homogeneous");
+    auto replace = [&](const std::string& from, const std::string& to) {
+        scene.replace(scene.find(from), from.size(), to);
+    };
+    replace("\"float g\" [ 0.6 ]", "\"float g\" [ 0.6 ] \"rgb Le\" [ 3 1.5 0.5 ]");
+    replace("\"integer maxdepth\" [ 4 ]", "\"integer maxdepth\" [ 3 ]");
+    const Image path = render_text(scene, options(2048)).image;
+    for (auto [integrator, spp] : {std::pair{"bdpt", 512}, std::pair{"pssmlt", 512}}) {
+        SCOPED_TRACE(integrator);
+        RenderOptions opt = options(spp);
+        opt.integrator = integrator;
+        const Image other = render_text(scene, opt).image;
+        expect_agrees_with_path(other, path, integrator, 0.03);
+    }
+}
+
 TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
     const std::string fog =
         "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMediumInterface \"\" \"fog\"\n"
@@ -419,8 +441,9 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
                 << e.what();
         }
     }
-    // Light paths start at the lights, never in an emitting medium.
-    for (const char* integrator : {"lighttracer", "bdpt", "pssmlt"}) try {
+    // Light paths start at the lights, never in an emitting medium: what joins light paths
+    // (or has none but VPLs') refuses it.
+    for (const char* integrator : {"lighttracer", "vpl", "bdlightcuts"}) try {
             RenderOptions opt = options(1);
             opt.integrator = integrator;
             render_text(

@@ -20,7 +20,8 @@ BdptPathSample BdptEstimator::sample_depth(
     Sampler& sampler, int depth, ScratchBuffer& scratch,
     const std::function<void(BdptStream)>& start_stream) const {
     BdptPathSample out;
-    if (m_scene.lights().empty() || depth < 0) return out;
+    const bool emitting_media = m_scene.has_emitting_media();
+    if ((m_scene.lights().empty() && !emitting_media) || depth < 0) return out;
     auto stream = [&](BdptStream s) {
         if (start_stream) start_stream(s);
     };
@@ -44,23 +45,32 @@ BdptPathSample BdptEstimator::sample_depth(
     out.p_raster = cs.p_film;
     Ray ray = m_camera.generate_ray(cs);
     thread_local std::vector<PathVertex> camera_vertices, light_vertices;
+    thread_local std::vector<RGB> medium_emission;
     camera_vertices.resize(size_t(t));
     light_vertices.resize(size_t(std::max(s, 1)));
-    if (generate_camera_subpath(ctx, ray, sampler, scratch, t, camera_vertices.data()) != t)
-        return out;
+    medium_emission.resize(size_t(t));
+    // Strategy s = 0 also takes the light that media emit after depth - 1 scattering vertices
+    // (subpaths.h: a path of this depth that only it makes), whether or not the camera subpath
+    // goes on to its t-th vertex.
+    const bool media_emission = emitting_media && s == 0 && depth >= 1;
+    const int nc = generate_camera_subpath(ctx, ray, sampler, scratch, t, camera_vertices.data(),
+                                           media_emission ? medium_emission.data() : nullptr);
+    // A camera ray's value counts the area it was drawn over (the film and its margin) against
+    // the film's.
+    const float scale = float(n_strategies) * m_camera.raster_area_ratio();
+    if (media_emission) out.L = medium_emission[size_t(depth - 1)] * scale;
+    if (nc != t) return out;
 
     // The light subpath, exactly s vertices.
     stream(BdptStream::Light);
     if (generate_light_subpath(ctx, sampler, scratch, s, ray.time, light_vertices.data()) != s)
         return out;
 
-    // The connection.
+    // The connection. A splat's value is already per camera sample (and s = 0 never splats).
     stream(BdptStream::Connection);
     Connection c = connect_bdpt(ctx, light_vertices.data(), camera_vertices.data(), s, t, sampler);
-    // A splat's value is already per camera sample; a camera ray's counts the area it was drawn
-    // over (the film and its margin) against the film's.
     if (c.splat) out.p_raster = c.p_raster;
-    out.L = c.L * (float(n_strategies) * (c.splat ? 1.f : m_camera.raster_area_ratio()));
+    out.L += c.L * (c.splat ? float(n_strategies) : scale);
     return out;
 }
 

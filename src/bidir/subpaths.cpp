@@ -1,5 +1,7 @@
 #include "bidir/subpaths.h"
 
+#include <algorithm>
+
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
 #include "transport/spawn.h"
@@ -15,10 +17,15 @@ namespace {
 // where the ray scatters: a medium vertex whose density, as pbrt-v3's BDPT has it, leaves out
 // the distance's (the throughput carries it; every strategy's weight uses the same densities,
 // so the weights still sum to one).
+//
+// `medium_emission` (camera subpaths only; null: not wanted): max_vertices entries, entry n the
+// light the media emit along the stretch after the walk's n-th vertex (n = 0: from the start),
+// times the throughput, as `path` adds it.
 int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& scratch, RGB beta,
                 float pdf_fwd, int max_vertices, TransportMode mode, PathVertex* path,
-                const Medium* medium = nullptr) {
+                const Medium* medium = nullptr, RGB* medium_emission = nullptr) {
     if (max_vertices <= 0) return 0;
+    if (medium_emission) std::fill(medium_emission, medium_emission + max_vertices, RGB());
     int n = 0;
     RGB unused_emission;
     for (int crossings = 0; crossings < 4096; ++crossings) {
@@ -30,7 +37,9 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
         if (medium) {
             const UnitRay u = unit_ray(ray, hit ? vertex.si.t : kInfinity);
             const MediumCollision ev =
-                track_medium(*medium, u.ray, u.tmax, sampler, &beta, &unused_emission, false);
+                track_medium(*medium, u.ray, u.tmax, sampler, &beta,
+                             medium_emission ? &medium_emission[n] : &unused_emission,
+                             medium_emission != nullptr);
             if (ev.event == MediumEvent::Absorb) break;
             if (ev.event == MediumEvent::Scatter) {
                 const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
@@ -96,7 +105,8 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
 }  // namespace
 
 int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampler,
-                            ScratchBuffer& scratch, int max_vertices, PathVertex* path) {
+                            ScratchBuffer& scratch, int max_vertices, PathVertex* path,
+                            RGB* medium_emission) {
     if (max_vertices <= 0) return 0;
     // A pinhole is a point (no normal); a thin lens is a surface facing forwards, but the
     // camera vertex is never the far end of a density conversion, so the normal is moot.
@@ -104,8 +114,10 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
     path[0].si.time = ray.time;
     float pdf_pos, pdf_dir;
     ctx.camera.pdf_we(ray, &pdf_pos, &pdf_dir);
+    if (medium_emission) medium_emission[max_vertices - 1] = RGB();
     return 1 + random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices - 1,
-                           TransportMode::Radiance, path + 1, ctx.scene.camera_medium());
+                           TransportMode::Radiance, path + 1, ctx.scene.camera_medium(),
+                           medium_emission);
 }
 
 int continue_subpath(const BdptScene& ctx, const Ray& ray, float pdf_dir, Sampler& sampler,

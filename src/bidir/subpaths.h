@@ -11,8 +11,15 @@ namespace ml {
 // Up to `max_vertices` vertices starting at the camera with `ray` (vertex 0 on the lens). Per
 // bounce: get_1d() (lobe), get_2d() (direction). Escaped rays end the path on a light vertex
 // standing for the infinite lights. Returns the vertex count.
+//
+// With `medium_emission` (max_vertices entries), entry k receives the light that participating
+// media emit along the stretch after the path's k-th scattering vertex (k = 0: along the camera
+// ray), times the throughput there: strategy s = 0 of a path whose last segment ends in the
+// medium, which no light subpath can make (no light subpath starts in a medium), so it takes
+// all of that light unweighted. As `path` counts it, it belongs to depth k + 1.
 int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampler,
-                            ScratchBuffer& scratch, int max_vertices, PathVertex* path);
+                            ScratchBuffer& scratch, int max_vertices, PathVertex* path,
+                            RGB* medium_emission = nullptr);
 
 // Up to `max_vertices` vertices starting on a light: get_1d() (which light), get_2d()
 // (position), get_2d() (direction), then per bounce get_1d(), get_2d(). Returns the vertex

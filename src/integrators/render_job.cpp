@@ -327,12 +327,15 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                 "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts, stochasticlightcuts, "
                 "bdlightcuts or igi",
                 name));
-        if (name != "path")
+        // Light emitted by a medium reaches the film only by eye paths (no light path starts
+        // in one): `path`'s, and BDPT's strategy s = 0 (so `pssmlt` too).
+        static const std::set<std::string> kEmission = {"path", "bdpt", "pssmlt"};
+        if (!kEmission.count(name))
             for (const auto& m : desc.media)
                 if (m->emits())
                     throw UsageError(fmt::format(
                         "integrator \"{}\" does not carry light emitted by a medium (no light "
-                        "path starts in one); render it with --integrator path",
+                        "path starts in one); render it with --integrator path, bdpt or pssmlt",
                         name));
     }
     if (bias_check_enabled(opt.bias_check, name))

@@ -11,6 +11,8 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
         m_has_media = m_has_media || m->medium_interface;
     }
     m_has_media = m_has_media || m_desc.camera_medium;
+    for (const auto& m : m_desc.media) m_has_emitting_media = m_has_emitting_media || m->emits();
+    m_has_emitting_media = m_has_emitting_media && m_has_media;
     m_embree = std::make_unique<EmbreeScene>(meshes, m_desc.transform_start_time,
                                              m_desc.transform_end_time);
     m_bounds = m_embree->bounds();

@@ -53,6 +53,8 @@ public:
     // Whether any participating medium is reachable: the camera's, or one behind a shape's
     // MediumInterface.
     bool has_media() const { return m_has_media; }
+    // Whether, besides, one of the media emits light ("Le").
+    bool has_emitting_media() const { return m_has_emitting_media; }
     const Medium* camera_medium() const { return m_desc.camera_medium; }
     // The camera's shutter (render_scene sets it from the camera; pbrt's default [0, 1]): paths
     // that start without a camera ray (VPL paths) draw their time over it, with
@@ -66,7 +68,7 @@ private:
     std::vector<const Light*> m_infinite;
     Bounds3 m_bounds;
     bool m_moves = false;
-    bool m_has_media = false;
+    bool m_has_media = false, m_has_emitting_media = false;
     float m_shutter_open = 0, m_shutter_close = 1;
 };
 

@@ -72,13 +72,26 @@ void BdptIntegrator::render_sample(const RenderContext& ctx, Point2i pixel, int 
 
     // Both subpaths, then every strategy of at most maxdepth bounces.
     thread_local std::vector<PathVertex> camera_vertices, light_vertices;
+    thread_local std::vector<RGB> medium_emission;
     camera_vertices.resize(size_t(m_max_depth) + 2);
     light_vertices.resize(size_t(m_max_depth) + 1);
+    medium_emission.resize(size_t(m_max_depth) + 2);
+    const bool emitting_media = ctx.scene.has_emitting_media();
     int nc = generate_camera_subpath(*m_ctx, ray, sampler, scratch, m_max_depth + 2,
-                                     camera_vertices.data());
+                                     camera_vertices.data(),
+                                     emitting_media ? medium_emission.data() : nullptr);
     int nl = generate_light_subpath(*m_ctx, sampler, scratch, m_max_depth + 1, ray.time,
                                     light_vertices.data());
     RGB L;
+    // Light emitted by media along the camera subpath: strategy s = 0 alone (subpaths.h), each
+    // stretch after k scattering vertices a path of depth k + 1.
+    if (emitting_media)
+        for (int k = 0; k + 1 <= m_max_depth; ++k) {
+            const RGB& e = medium_emission[size_t(k)];
+            if (e.is_black()) continue;
+            L += e;
+            if (m_strategy_images) splats.add_to_pixel(pixel, e, strategy_index(0, k + 3));
+        }
     for (int t = 1; t <= nc; ++t)
         for (int s = 0; s <= nl; ++s) {
             int depth = s + t - 2;
