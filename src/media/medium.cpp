@@ -52,6 +52,61 @@ std::optional<MajorantSegment> box_majorant(const Transform& world_to_medium, co
     return MajorantSegment{t0, t1, sigma_maj};
 }
 
+MajorantIterator::MajorantIterator(const MajorantGrid& grid, const Vec3& o, const Vec3& d, float t0,
+                                   float t1)
+    : m_t(t0), m_t1(t1), m_grid(&grid) {
+    const int res = grid.res();
+    const Vec3 p = o + d * t0;
+    for (int a = 0; a < 3; ++a) {
+        m_voxel[a] = std::clamp(int(p[a] * float(res)), 0, res - 1);
+        if (d[a] == 0) {  // never crosses this axis's planes
+            m_next_t[a] = kInfinity;
+            m_delta_t[a] = kInfinity;
+            m_step[a] = 0;
+            m_limit[a] = -2;
+            continue;
+        }
+        m_delta_t[a] = 1.f / (std::abs(d[a]) * float(res));
+        const bool up = d[a] > 0;
+        const float plane = float(m_voxel[a] + (up ? 1 : 0)) / float(res);
+        m_next_t[a] = t0 + (plane - p[a]) / d[a];
+        m_step[a] = up ? 1 : -1;
+        m_limit[a] = up ? res : -1;
+    }
+}
+
+std::optional<MajorantSegment> MajorantIterator::next() {
+    if (!(m_t < m_t1)) return std::nullopt;
+    if (!m_grid) {
+        m_t = m_t1;
+        return m_single;
+    }
+    // The axis whose next cell boundary comes first.
+    int a = 0;
+    if (m_next_t[1] < m_next_t[a]) a = 1;
+    if (m_next_t[2] < m_next_t[a]) a = 2;
+    const float exit = std::min(m_t1, std::max(m_t, m_next_t[a]));
+    const MajorantSegment seg{m_t, exit, m_grid->at(m_voxel[0], m_voxel[1], m_voxel[2])};
+    m_t = exit;
+    m_voxel[a] += m_step[a];
+    if (m_voxel[a] == m_limit[a]) m_t = m_t1;
+    m_next_t[a] += m_delta_t[a];
+    return seg;
+}
+
+MajorantIterator box_majorants(const Transform& world_to_medium, const Vec3& p0, const Vec3& p1,
+                               const MajorantGrid& grid, float sigma_maj, const Ray& ray,
+                               float tmax) {
+    const std::optional<MajorantSegment> s =
+        box_majorant(world_to_medium, p0, p1, sigma_maj, ray, tmax);
+    if (!s) return MajorantIterator();
+    if (grid.empty()) return MajorantIterator(*s);
+    const Vec3 ext = p1 - p0, o = world_to_medium.point(ray.o), d = world_to_medium.vector(ray.d);
+    return MajorantIterator(grid,
+                            Vec3((o.x - p0.x) / ext.x, (o.y - p0.y) / ext.y, (o.z - p0.z) / ext.z),
+                            Vec3(d.x / ext.x, d.y / ext.y, d.z / ext.z), s->t0, s->t1);
+}
+
 BlackbodyTable::BlackbodyTable(float offset, float scale, float raw_min, float raw_max)
     : m_offset(offset), m_scale(scale) {
     const float hottest = std::max((raw_min - offset) * scale, (raw_max - offset) * scale);
@@ -125,6 +180,23 @@ public:
     }
     bool empty() const { return m_v.empty(); }
     const std::vector<T>& values() const { return m_v; }
+    // A majorant grid's cells per axis for this grid (majorant_res).
+    int res(int most) const { return majorant_res(std::max({m_nx, m_ny, m_nz}), most); }
+    // f(flat index) for every value that lookup() mixes in somewhere in the box [lo, hi] of the
+    // unit cube (the others are zero there, or out of reach).
+    template <class F>
+    void for_each_within(const Vec3& lo, const Vec3& hi, const F& f) const {
+        const int n[3] = {m_nx, m_ny, m_nz};
+        int i0[3], i1[3];
+        for (int a = 0; a < 3; ++a) {
+            i0[a] = std::max(0, int(std::floor(lo[a] * float(n[a]) - 0.5f)));
+            i1[a] = std::min(n[a] - 1, int(std::floor(hi[a] * float(n[a]) - 0.5f)) + 1);
+        }
+        for (int k = i0[2]; k <= i1[2]; ++k)
+            for (int j = i0[1]; j <= i1[1]; ++j)
+                for (int i = i0[0]; i <= i1[0]; ++i)
+                    f((size_t(k) * size_t(m_ny) + size_t(j)) * size_t(m_nx) + size_t(i));
+    }
 
 private:
     std::vector<T> m_v;
@@ -148,12 +220,19 @@ public:
     std::optional<MajorantSegment> majorant(const Ray& ray, float tmax) const override {
         return box_majorant(m_world_to_medium, m_p0, m_p1, m_sigma_maj, ray, tmax);
     }
+    MajorantIterator majorants(const Ray& ray, float tmax) const override {
+        return box_majorants(m_world_to_medium, m_p0, m_p1, m_majorants, m_sigma_maj, ray, tmax);
+    }
     bool homogeneous() const override { return false; }
 
 protected:
     // The coefficients at u in the unit cube of the box.
     virtual MediumProperties at_unit(const Vec3& u) const = 0;
     float m_sigma_maj = 0;  // >= sigma_a + sigma_s in every channel, everywhere in the box
+    // Finer bounds, cell by cell (as pbrt-v4's grid media: up to 16^3); empty: m_sigma_maj
+    // alone.
+    MajorantGrid m_majorants;
+    static constexpr int kMajorantRes = 16;
 
 private:
     Transform m_world_to_medium;
@@ -184,7 +263,16 @@ public:
           m_temperature(std::move(temperature)),
           m_blackbody(std::move(blackbody)) {
         m_emits = (!Le.is_black() || !m_blackbody.empty()) && !sigma_a.is_black();
-        m_sigma_maj = max_of(m_density.values()) * (sigma_a + sigma_s).max_component();
+        const float sigma_t = (sigma_a + sigma_s).max_component();
+        m_sigma_maj = max_of(m_density.values()) * sigma_t;
+        // Trilinear interpolation stays within the values it mixes.
+        m_majorants =
+            MajorantGrid(m_density.res(kMajorantRes), [&](const Vec3& lo, const Vec3& hi) {
+                float most = 0;
+                m_density.for_each_within(
+                    lo, hi, [&](size_t i) { most = std::max(most, m_density.values()[i]); });
+                return most * sigma_t;
+            });
     }
     std::string type() const override { return "uniformgrid"; }
 
@@ -221,13 +309,20 @@ public:
         m_emits = !m_Le.empty() && le_scale > 0;
         // The interpolation never exceeds the largest cell, channel by channel.
         const size_t n = std::max(m_sigma_a.values().size(), m_sigma_s.values().size());
-        float most = 0;
-        for (size_t i = 0; i < n; ++i) {
+        auto sigma_t = [&](size_t i) {
             const RGB a = m_sigma_a.empty() ? RGB(1.f) : m_sigma_a.values()[i];
             const RGB s = m_sigma_s.empty() ? RGB(1.f) : m_sigma_s.values()[i];
-            most = std::max(most, (a + s).max_component());
-        }
+            return (a + s).max_component();
+        };
+        float most = 0;
+        for (size_t i = 0; i < n; ++i) most = std::max(most, sigma_t(i));
         m_sigma_maj = scale * most;
+        const Grid<RGB>& cells = m_sigma_a.empty() ? m_sigma_s : m_sigma_a;  // both alike
+        m_majorants = MajorantGrid(cells.res(kMajorantRes), [&](const Vec3& lo, const Vec3& hi) {
+            float cell = 0;
+            cells.for_each_within(lo, hi, [&](size_t i) { cell = std::max(cell, sigma_t(i)); });
+            return scale * cell;
+        });
     }
     std::string type() const override { return "rgbgrid"; }
 

@@ -39,7 +39,38 @@ public:
         m_p0 = Vec3(float(box.min()[0]), float(box.min()[1]), float(box.min()[2]));
         m_p1 = Vec3(float(box.max()[0]), float(box.max()[1]), float(box.max()[2]));
         // Trilinear interpolation stays within the voxels' values (the background is 0).
-        m_sigma_maj = max_density * (sigma_a + sigma_s).max_component();
+        const float sigma_t = (sigma_a + sigma_s).max_component();
+        m_sigma_maj = max_density * sigma_t;
+        // Cell by cell (as pbrt-v4's, up to 64^3): the largest voxel that interpolation mixes in
+        // there.
+        const auto ibox = m_grid->indexBBox();
+        auto acc = m_grid->getAccessor();
+        const auto dim = ibox.dim();
+        m_majorants = MajorantGrid(
+            majorant_res(std::max({dim[0], dim[1], dim[2]}), 64),
+            [&](const Vec3& lo, const Vec3& hi) {
+                nanovdb::Vec3f a(kInfinity), b(-kInfinity);
+                for (int c = 0; c < 8; ++c) {
+                    const Vec3 u((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y,
+                                 (c & 4) ? hi.z : lo.z);
+                    const Vec3 p(lerp(u.x, m_p0.x, m_p1.x), lerp(u.y, m_p0.y, m_p1.y),
+                                 lerp(u.z, m_p0.z, m_p1.z));
+                    const nanovdb::Vec3f i = m_grid->worldToIndexF(nanovdb::Vec3f(p.x, p.y, p.z));
+                    for (int k = 0; k < 3; ++k)
+                        a[k] = std::min(a[k], i[k]), b[k] = std::max(b[k], i[k]);
+                }
+                int i0[3], i1[3];
+                for (int k = 0; k < 3; ++k) {
+                    i0[k] = std::max(ibox.min()[k], int(std::floor(a[k])));
+                    i1[k] = std::min(ibox.max()[k], int(std::floor(b[k])) + 1);
+                }
+                float most = 0;
+                for (int z = i0[2]; z <= i1[2]; ++z)
+                    for (int y = i0[1]; y <= i1[1]; ++y)
+                        for (int x = i0[0]; x <= i1[0]; ++x)
+                            most = std::max(most, acc.getValue(nanovdb::Coord(x, y, z)));
+                return most * sigma_t;
+            });
     }
     MediumProperties at(const Vec3& p_world) const override {
         const Vec3 p = m_world_to_medium.point(p_world);
@@ -50,6 +81,9 @@ public:
     }
     std::optional<MajorantSegment> majorant(const Ray& ray, float tmax) const override {
         return box_majorant(m_world_to_medium, m_p0, m_p1, m_sigma_maj, ray, tmax);
+    }
+    MajorantIterator majorants(const Ray& ray, float tmax) const override {
+        return box_majorants(m_world_to_medium, m_p0, m_p1, m_majorants, m_sigma_maj, ray, tmax);
     }
     bool homogeneous() const override { return false; }
     std::string type() const override { return "nanovdb"; }
@@ -71,6 +105,7 @@ private:
     RGB m_sigma_a, m_sigma_s;
     Vec3 m_p0, m_p1;  // the grid's bounds in medium space
     float m_sigma_maj = 0;
+    MajorantGrid m_majorants;
 };
 
 GridHandle read_grid(const std::string& path, const std::string& name, const FileLoc& loc) {

@@ -22,26 +22,37 @@ RGB exp_neg(const RGB& x) {
 // The transmittance of `m` along the unit `ray` up to tmax: closed form where it is
 // homogeneous, else ratio tracking (with Russian roulette once it is small).
 RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& sampler) {
-    const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
-    if (!seg || !(seg->sigma_maj > 0)) return RGB(1.f);
     if (m.homogeneous()) {
+        const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
+        if (!seg || !(seg->sigma_maj > 0)) return RGB(1.f);
         const MediumProperties mp = m.at(ray.o);
         return exp_neg((mp.sigma_a + mp.sigma_s) * (seg->t1 - seg->t0));
     }
     RGB tr(1.f);
-    float t = seg->t0;
-    for (;;) {
-        t -= std::log1p(-sampler.get_1d()) / seg->sigma_maj;
-        if (!(t < seg->t1)) return tr;
-        const MediumProperties mp = m.at(ray.at(t));
-        tr *= clamp_zero(RGB(1.f) - (mp.sigma_a + mp.sigma_s) / seg->sigma_maj);
-        const float mx = tr.max_component();
-        if (!(mx > 0)) return RGB();
-        if (mx < 0.1f) {
-            if (sampler.get_1d() < 0.5f) return RGB();
-            tr *= 2.f;
+    MajorantIterator segments = m.majorants(ray, tmax);
+    float tau = -1;  // as track_medium spends it
+    while (const std::optional<MajorantSegment> seg = segments.next()) {
+        if (!(seg->sigma_maj > 0)) continue;  // nothing there
+        float t = seg->t0;
+        for (;;) {
+            if (tau < 0) tau = -std::log1p(-sampler.get_1d());
+            if (!(tau < seg->sigma_maj * (seg->t1 - t))) {
+                tau -= seg->sigma_maj * (seg->t1 - t);
+                break;
+            }
+            t += tau / seg->sigma_maj;
+            tau = -1;  // spent: the next collision draws its own
+            const MediumProperties mp = m.at(ray.at(t));
+            tr *= clamp_zero(RGB(1.f) - (mp.sigma_a + mp.sigma_s) / seg->sigma_maj);
+            const float mx = tr.max_component();
+            if (!(mx > 0)) return RGB();
+            if (mx < 0.1f) {
+                if (sampler.get_1d() < 0.5f) return RGB();
+                tr *= 2.f;
+            }
         }
     }
+    return tr;
 }
 
 // One light sample towards a scattering point `ctx.p` (moved by `offset` off its surface; zero
@@ -129,29 +140,41 @@ UnitRay unit_ray(const Ray& r, float tmax) {
 
 MediumCollision track_medium(const Medium& m, const Ray& ray, float tmax, Sampler& sampler,
                              RGB* beta, RGB* L, bool emission) {
-    const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
-    if (!seg || !(seg->sigma_maj > 0)) return {};
-    const float sigma_maj = seg->sigma_maj;
-    float t = seg->t0;
-    for (;;) {
-        t -= std::log1p(-sampler.get_1d()) / sigma_maj;
-        if (!(t < seg->t1)) return {};
-        const MediumProperties mp = m.at(ray.at(t));
-        if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
-        const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
-        const float pa = channel_mean(*beta * mp.sigma_a), ps = channel_mean(*beta * mp.sigma_s),
-                    pn = channel_mean(*beta * sigma_n);
-        const float c = pa + ps + pn;
-        if (!(c > 0)) return {MediumEvent::Absorb, t};
-        const float u = sampler.get_1d() * c;
-        if (u < pa) return {MediumEvent::Absorb, t};
-        if (u < pa + ps) {
-            *beta *= mp.sigma_s * (c / (ps * sigma_maj));
-            return {MediumEvent::Scatter, t};
+    // Collisions with density sigma_maj exp(-int sigma_maj), segment by segment: an optical
+    // depth tau drawn once per collision (when first needed; -1: none yet) is spent across the
+    // segments it passes.
+    MajorantIterator segments = m.majorants(ray, tmax);
+    float tau = -1;
+    while (const std::optional<MajorantSegment> seg = segments.next()) {
+        const float sigma_maj = seg->sigma_maj;
+        if (!(sigma_maj > 0)) continue;  // nothing there
+        float t = seg->t0;
+        for (;;) {
+            if (tau < 0) tau = -std::log1p(-sampler.get_1d());
+            if (!(tau < sigma_maj * (seg->t1 - t))) {
+                tau -= sigma_maj * (seg->t1 - t);
+                break;
+            }
+            t += tau / sigma_maj;
+            tau = -1;  // spent: the next collision draws its own
+            const MediumProperties mp = m.at(ray.at(t));
+            if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
+            const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
+            const float pa = channel_mean(*beta * mp.sigma_a),
+                        ps = channel_mean(*beta * mp.sigma_s), pn = channel_mean(*beta * sigma_n);
+            const float c = pa + ps + pn;
+            if (!(c > 0)) return {MediumEvent::Absorb, t};
+            const float u = sampler.get_1d() * c;
+            if (u < pa) return {MediumEvent::Absorb, t};
+            if (u < pa + ps) {
+                *beta *= mp.sigma_s * (c / (ps * sigma_maj));
+                return {MediumEvent::Scatter, t};
+            }
+            *beta *= sigma_n * (c / (pn * sigma_maj));
+            if (beta->is_black()) return {MediumEvent::Absorb, t};
         }
-        *beta *= sigma_n * (c / (pn * sigma_maj));
-        if (beta->is_black()) return {MediumEvent::Absorb, t};
     }
+    return {};
 }
 
 const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current) {
