@@ -99,6 +99,9 @@ TEST(PbrtReference, GridMediumByPssmlt) {
     for (int c = 0; c < 3; ++c) EXPECT_LT(std::abs(d.mean_rel_diff[c]), 0.02) << "channel " << c;
 }
 TEST(PbrtReference, GridMediumByBdpt) { expect_matches_pbrt("media_grid", "bdpt"); }
+// A spot light focused by a glass sphere into a beam in fog (Bitterli's volumetric-caustic): BDPT,
+// the scene's integrator; no camera path reaches a spot light through glass.
+TEST(PbrtReference, VolumetricCausticByBdpt) { expect_matches_pbrt("media_caustic"); }
 // The many-light integrators in media: gather points where camera rays scatter, lit by the spot
 // light through the fog (single scattering: max depth 1, no VPLs), and VPLs where light paths
 // scatter in the smoke. The fog's blocks near the light converge slowly (points drawn by
