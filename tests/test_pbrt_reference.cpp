@@ -129,11 +129,15 @@ TEST(PbrtReference, CloudAndPresetMediaByMdlightcuts) {
 }
 // A NanoVDB grid of smoke (ZIP-compressed), rotated and moved by the CTM at MakeNamedMedium.
 TEST(PbrtReference, NanoVdbMedium) { expect_matches_pbrt("media_nanovdb"); }
+// 1024 spp: the dim blocks at the top (3% of the image's mean) swing by 15% either way at 64,
+// by 7% at 256 (each VPL set moves them).
 TEST(PbrtReference, NanoVdbMediumByStochasticLightcuts) {
-    expect_matches_pbrt("media_nanovdb", "stochasticlightcuts", 64);
+    expect_matches_pbrt("media_nanovdb", "stochasticlightcuts", 1024);
 }
 // Media glowing by temperature: a NanoVDB "temperature" grid and a uniformgrid's temperatures.
-TEST(PbrtReference, MediaGlowingByTemperature) { expect_matches_pbrt("media_fire"); }
+// 1024 spp: at the scene's 256 the blue of the fire's dim rim swings by 5% in a block, on top of
+// the few percent by which pbrt-v4's spectral blackbody's colours part from ours there.
+TEST(PbrtReference, MediaGlowingByTemperature) { expect_matches_pbrt("media_fire", "", 1024); }
 // What the subsurface material renders: light walking through dense media inside rough
 // dielectric spheres (pbrt-v4's own subsurface material is a BSSRDF, another model).
 TEST(PbrtReference, DenseMediaInsideRoughDielectrics) { expect_matches_pbrt("media_walk"); }
