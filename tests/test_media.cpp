@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -216,6 +217,20 @@ TEST(Media, AScatteringMediumInAWhiteFurnaceIsOne) {
 
 // A box of coloured, forward-scattering medium of `type` bounded by interfaces, over a grey
 // floor under an area light, seen from outside, 24x18, max depth 4.
+// Each of `others` (integrator, samples per pixel) renders `scene` as `path` at 2048 spp does,
+// pixel by pixel, per channel (expect_agrees_with_path, within 3%).
+void expect_integrators_agree_with_path(const std::string& scene,
+                                        std::initializer_list<std::pair<const char*, int>> others) {
+    const Image path = render_text(scene, options(2048)).image;
+    for (auto [integrator, spp] : others) {
+        SCOPED_TRACE(integrator);
+        RenderOptions opt = options(spp);
+        opt.integrator = integrator;
+        const Image other = render_text(scene, opt).image;
+        expect_agrees_with_path(other, path, integrator, 0.03);
+    }
+}
+
 std::string coloured_cloud(const std::string& type) {
     return "LookAt 0 2 -6  0 0.8 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 40 ]\n"
            "Film \"rgb\" \"integer xresolution\" [ 24 ] \"integer yresolution\" [ 18 ]\n"
@@ -241,15 +256,8 @@ TEST(Media, LightTracingAndBdptAgreeWithPathThroughAColouredCloud) {
     // pixel.
     for (const char* type : {"homogeneous", "uniformgrid"}) {
         SCOPED_TRACE(type);
-        const std::string scene = coloured_cloud(type);
-        const Image path = render_text(scene, options(2048)).image;
-        for (auto [integrator, spp] : {std::pair{"lighttracer", 2048}, std::pair{"bdpt", 512}}) {
-            SCOPED_TRACE(integrator);
-            RenderOptions opt = options(spp);
-            opt.integrator = integrator;
-            const Image other = render_text(scene, opt).image;
-            expect_agrees_with_path(other, path, integrator, 0.03);
-        }
+        expect_integrators_agree_with_path(coloured_cloud(type),
+                                           {{"lighttracer", 2048}, {"bdpt", 512}});
     }
 }
 
@@ -413,14 +421,7 @@ TEST(Media, BdptAndPssmltCarryTheLightOfAnEmittingMediumAsPathDoes) {
     };
     replace("\"float g\" [ 0.6 ]", "\"float g\" [ 0.6 ] \"rgb Le\" [ 3 1.5 0.5 ]");
     replace("\"integer maxdepth\" [ 4 ]", "\"integer maxdepth\" [ 3 ]");
-    const Image path = render_text(scene, options(2048)).image;
-    for (auto [integrator, spp] : {std::pair{"bdpt", 512}, std::pair{"pssmlt", 512}}) {
-        SCOPED_TRACE(integrator);
-        RenderOptions opt = options(spp);
-        opt.integrator = integrator;
-        const Image other = render_text(scene, opt).image;
-        expect_agrees_with_path(other, path, integrator, 0.03);
-    }
+    expect_integrators_agree_with_path(scene, {{"bdpt", 512}, {"pssmlt", 512}});
 }
 
 TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
