@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <initializer_list>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -18,6 +17,7 @@
 #include "integrators/render_job.h"
 #include "materials/beam_diffusion.h"
 #include "media/medium.h"
+#include "media_test_helpers.h"
 #include "parser_test_helpers.h"
 #include "render_helpers.h"
 #include "sampling/warps.h"
@@ -26,65 +26,6 @@
 
 using namespace ml;
 using namespace ml::test;
-
-namespace {
-
-// Within 4 standard errors of `expected`, and within `rel` of it (a loose check that catches a
-// wrong answer whose noise is large too).
-void expect_channel(const Image& img, int c, double expected, double rel) {
-    const ChannelStats s = channel_stats(img, c);
-    EXPECT_NEAR(s.mean, expected, 4 * s.stderr_of_mean + 1e-6)
-        << "channel " << c << " (standard error " << s.stderr_of_mean << ")";
-    EXPECT_NEAR(s.mean, expected, rel * expected) << "channel " << c;
-}
-
-// A medium "m" of the given type filling [-10, 10]^3 (a grid of 2^3 equal densities: pbrt-v4's
-// grid falls to zero over the outer half cell, so the inner region is exactly `density`).
-std::string medium(const std::string& type, const std::string& coefficients) {
-    if (type == "homogeneous")
-        return "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" " + coefficients + "\n";
-    return "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" " + coefficients +
-           " \"integer nx\" [ 2 ] \"integer ny\" [ 2 ] \"integer nz\" [ 2 ]"
-           " \"float density\" [ 1 1 1 1 1 1 1 1 ] \"point3 p0\" [ -10 -10 -10 ]"
-           " \"point3 p1\" [ 10 10 10 ]\n";
-}
-
-// A closed box [lo, hi] of outward-facing quads.
-std::string box(const Vec3& lo, const Vec3& hi) {
-    std::string p, idx;
-    const Vec3 c[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
-                       {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
-                       {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
-    for (const Vec3& v : c) p += fmt::format(" {} {} {}", v.x, v.y, v.z);
-    // Counter-clockwise seen from outside: the winding's normal points out.
-    const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                             {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
-    for (const auto& f : faces)
-        idx += fmt::format(" {} {} {} {} {} {}", f[0], f[1], f[2], f[0], f[2], f[3]);
-    return "Shape \"trianglemesh\" \"point3 P\" [" + p + " ] \"integer indices\" [" + idx + " ]\n";
-}
-
-// Each channel of `other` against `path`, pixel by pixel: within 4 standard errors of the
-// pixels' differences and within `rel` of path's mean.
-void expect_agrees_with_path(const Image& other, const Image& path, const std::string& who,
-                             double rel) {
-    for (int c = 0; c < 3; ++c) {
-        const MeanDifference d = mean_difference(other, path, c);
-        EXPECT_NEAR(d.mean, 0, 4 * d.stderr_of_mean + 1e-6)
-            << "channel " << c << ": " << who << " - path " << d.mean << " (standard error "
-            << d.stderr_of_mean << ")";
-        EXPECT_LT(std::abs(d.mean), rel * d.reference_mean) << "channel " << c;
-    }
-}
-
-RenderOptions options(int spp) {
-    RenderOptions opt;
-    opt.spp = spp;
-    opt.seed = 3;
-    return opt;
-}
-
-}  // namespace
 
 TEST(MediaChi2, HenyeyGreensteinSamplesMatchItsDensity) {
     const float gs[] = {-0.7f, 0.f, 0.3f, 0.9f};
@@ -217,38 +158,6 @@ TEST(Media, AScatteringMediumInAWhiteFurnaceIsOne) {
 
 // A box of coloured, forward-scattering medium of `type` bounded by interfaces, over a grey
 // floor under an area light, seen from outside, 24x18, max depth 4.
-// Each of `others` (integrator, samples per pixel) renders `scene` as `path` at 2048 spp does,
-// pixel by pixel, per channel (expect_agrees_with_path, within 3%).
-void expect_integrators_agree_with_path(const std::string& scene,
-                                        std::initializer_list<std::pair<const char*, int>> others) {
-    const Image path = render_text(scene, options(2048)).image;
-    for (auto [integrator, spp] : others) {
-        SCOPED_TRACE(integrator);
-        RenderOptions opt = options(spp);
-        opt.integrator = integrator;
-        const Image other = render_text(scene, opt).image;
-        expect_agrees_with_path(other, path, integrator, 0.03);
-    }
-}
-
-std::string coloured_cloud(const std::string& type) {
-    return "LookAt 0 2 -6  0 0.8 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 40 ]\n"
-           "Film \"rgb\" \"integer xresolution\" [ 24 ] \"integer yresolution\" [ 18 ]\n"
-           "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 4 ]\n"
-           "WorldBegin\n" +
-           medium(type,
-                  "\"rgb sigma_a\" [ 0.1 0.1 0.1 ] \"rgb sigma_s\" [ 0.3 0.8 1.5 ] "
-                  "\"float g\" [ 0.6 ]") +
-           "AttributeBegin\nTranslate 0 4 0\nAreaLightSource \"diffuse\" \"rgb L\" [ 20 20 20 ]\n"
-           "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-           "  \"point3 P\" [ -0.6 0 -0.6  0.6 0 -0.6  0.6 0 0.6  -0.6 0 0.6 ]\nAttributeEnd\n"
-           "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-           "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-           "  \"point3 P\" [ -5 0 -5  -5 0 5  5 0 5  5 0 -5 ]\n"
-           "AttributeBegin\nMediumInterface \"m\" \"\"\nMaterial \"interface\"\n" +
-           box(Vec3(-1, 0.01f, -1), Vec3(1, 2, 1)) + "AttributeEnd\n";
-}
-
 TEST(Media, LightTracingAndBdptAgreeWithPathThroughAColouredCloud) {
     // The coloured cloud seen from outside (a camera inside a scattering medium gives light
     // tracing unbounded variance: vertices next to the lens). Light paths scatter in the cloud
@@ -391,39 +300,6 @@ TEST(Media, LightcutsInACloudStayWithinTheirBoundsOfTheVplSum) {
             << "channel " << c;
 }
 
-TEST(Media, AnEmittingMediumGlowsAsItsClosedForm) {
-    // An absorbing, emitting medium seen over a black background along a depth of 2:
-    // L = Le (1 - exp(-2 sigma_a)).
-    const std::string scene =
-        medium("homogeneous",
-               "\"rgb sigma_a\" [ 0.5 1 2 ] \"rgb sigma_s\" [ 0 0 0 ] \"rgb Le\" [ 1 2 3 ]") +
-        "MediumInterface \"\" \"m\"\n"
-        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"orthographic\"\n"
-        "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
-        "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 5 ]\n"
-        "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n"
-        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-        "  \"point3 P\" [ -5 -5 2  -5 5 2  5 5 2  5 -5 2 ]\n";
-    const Image img = render_text(scene, options(256)).image;
-    const double sigma[3] = {0.5, 1, 2}, Le[3] = {1, 2, 3};
-    for (int c = 0; c < 3; ++c) expect_channel(img, c, Le[c] * (1 - std::exp(-2 * sigma[c])), 0.05);
-}
-
-TEST(Media, BdptAndPssmltCarryTheLightOfAnEmittingMediumAsPathDoes) {
-    // A glowing, scattering, coloured cloud over a grey floor beside an area light: the cloud's
-    // light reaches the camera directly, by the floor and by scattering in the cloud, and only
-    // eye paths find it (BDPT's s = 0, weight one). Max depth 3 also checks that emission after
-    // k scattering vertices is counted at depth k + 1, as `path` counts it; per channel, pixel
-    // by pixel, against path.
-    std::string scene = coloured_cloud("homogeneous");
-    auto replace = [&](const std::string& from, const std::string& to) {
-        scene.replace(scene.find(from), from.size(), to);
-    };
-    replace("\"float g\" [ 0.6 ]", "\"float g\" [ 0.6 ] \"rgb Le\" [ 3 1.5 0.5 ]");
-    replace("\"integer maxdepth\" [ 4 ]", "\"integer maxdepth\" [ 3 ]");
-    expect_integrators_agree_with_path(scene, {{"bdpt", 512}, {"pssmlt", 512}});
-}
-
 TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
     const std::string fog =
         "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMediumInterface \"\" \"fog\"\n"
@@ -444,7 +320,7 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
     }
     // Light paths start at the lights, never in an emitting medium: what joins light paths
     // (or has none but VPLs') refuses it.
-    for (const char* integrator : {"lighttracer", "vpl", "bdlightcuts"}) try {
+    for (const char* integrator : {"lighttracer", "vpl", "mdlightcuts"}) try {
             RenderOptions opt = options(1);
             opt.integrator = integrator;
             render_text(

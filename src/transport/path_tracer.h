@@ -49,6 +49,10 @@ public:
                          const RGB* f) const = 0;
     // True where the weight is 0 for every wi: the path is not continued at all.
     virtual bool vanishes(const Bsdf& bsdf, const Vec3& wo) const = 0;
+    // False where the light that participating media emit past the first vertex counts whole,
+    // unweighted (no other estimator of the caller's finds it): the path then goes on for that
+    // light alone where the weight is 0.
+    virtual bool weighs_media_emission() const { return true; }
 };
 
 // The radiance that paths continued past `si` bring back along si.wo, times the throughput

@@ -253,6 +253,9 @@ public:
     // The first vertex's weight by the direction it leaves in (FirstBounceWeight), kept out of
     // beta as continue_path keeps it: Russian roulette looks at the throughput alone.
     float path_weight = 1;
+    // Whether the media's emission counts whole whatever path_weight is (and the path goes on
+    // for it where path_weight is 0): FirstBounceWeight::weighs_media_emission.
+    bool whole_emission = false;
 
     // The vertices from `ray` on, until the path ends.
     void run() {
@@ -269,7 +272,7 @@ public:
         const LightSampleContext ctx{p, Vec3(), Vec3()};
         const Medium* here = medium;
         const Bsdf phase = first ? phase_bsdf(wo, g, m_scratch) : Bsdf();
-        if (first && first->vanishes(phase, wo)) return false;
+        if (first && !whole_emission && first->vanishes(phase, wo)) return false;
         auto weight_of = [&](const Vec3& wi, const RGB* f) {
             return first ? first->weight(phase, wo, wi, false, f) : 1.f;
         };
@@ -303,14 +306,14 @@ public:
         prev_ctx = ctx;
         specular_bounce = false;
         ray = Ray{p, wi, kInfinity, time};
-        return path_weight != 0.f && survive();
+        return (path_weight != 0.f || whole_emission) && survive();
     }
 
     // Scattering at surface si (not an interface), the path having arrived in `medium`.
     bool scatter_at_surface(SurfaceInteraction& si, const FirstBounceWeight* first) {
         Bsdf bsdf = hit_bsdf(si, m_scratch);
         if (!bsdf) return false;
-        if (first && first->vanishes(bsdf, si.wo)) return false;
+        if (first && !whole_emission && first->vanishes(bsdf, si.wo)) return false;
         // Next-event estimation through the media, then the BSDF's direction.
         if (bsdf.has_nonspecular()) {
             const Medium* arrived = medium;
@@ -338,7 +341,7 @@ public:
         if (bs->is_transmission()) eta_scale *= sqr(bs->eta);
         medium = medium_after(si, bs->wi, medium);
         ray = spawn_ray(si, bs->wi);
-        return path_weight != 0.f && survive();
+        return (path_weight != 0.f || whole_emission) && survive();
     }
 
 private:
@@ -374,7 +377,7 @@ private:
             RGB emitted;
             const MediumCollision ev = track_medium(*medium, u.ray, u.tmax, m_sampler, &beta,
                                                     &emitted, depth < m_options.max_depth);
-            add(emitted);
+            L += emitted * (whole_emission ? 1.f : path_weight);
             if (ev.event == MediumEvent::Absorb) return false;
             if (ev.event == MediumEvent::Scatter) {
                 if (depth++ >= m_options.max_depth) return false;
@@ -425,6 +428,7 @@ RGB continue_volumetric(const Scene& scene, const VolumeVertex& v, int depth, RG
     walk.medium = v.medium;
     walk.beta = beta;
     walk.depth = depth + 1;  // v itself
+    walk.whole_emission = first && !first->weighs_media_emission() && scene.has_emitting_media();
     SurfaceInteraction si = v.si;
     const bool goes_on = v.in_medium ? walk.scatter_in_medium(si.p, si.wo, si.time, GreyTracking(),
                                                               nullptr, 0, first)

@@ -225,8 +225,13 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
                                                         power_heuristic(p_eq, p_track);
                                              });
                 };
+            // Light emitted by the media: no split reaches it (no light path starts in a
+            // medium), so the eye path takes all it meets, as `path` counts it.
+            RGB glow;
+            const bool glows = m_glowing && depth < m_settings.max_depth;
             const EyeHit h = next_eye_hit(scene, &ray, sampler, ts.scratch, &medium, &s.beta, &si,
-                                          &phase, stretch);
+                                          &phase, stretch, glows ? &glow : nullptr);
+            L += glow;
             if (h == EyeHit::Absorbed) break;
             hit = h != EyeHit::Escaped;
             in_medium = h == EyeHit::Medium;
@@ -245,8 +250,9 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             // The remainder: paths through x_{J+1} = si longer than the eye path, weighted by
             // what splits 1 ... J leave (trace_eye's prefix and pending split are r's inputs).
             float pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
-            if (m_rest_path &&
-                !remainder_vanishes(m_weights, s.prefix, pending_mt, kInfinity, s.pending_mu)) {
+            // (With glowing media it goes on for their light even where r vanishes.)
+            if (m_rest_path && (m_glowing || !remainder_vanishes(m_weights, s.prefix, pending_mt,
+                                                                 kInfinity, s.pending_mu))) {
                 RemainderWeight r(m_weights, s.prefix, pending_mt, s.pending_mu, in_medium);
                 // `rest_paths` of them, averaged (each with the whole throughput, which their
                 // Russian roulette looks at).
@@ -442,6 +448,11 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         throw UsageError(
             "bdlightcuts.guiding: the remainder paths are not guided in participating media "
             "(the guide learns surface directions); render with bdlightcuts.guiding=off");
+    m_glowing = ctx.scene.has_emitting_media();
+    if (m_glowing && !m_rest_path)
+        throw UsageError(
+            "bdlightcuts.rest=drop: the scene's media emit light, which only the eye paths and "
+            "their remainders carry; render with bdlightcuts.rest=path");
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
     RenderResult result;

@@ -83,6 +83,7 @@ private:
     int m_pass_samples = 16;  // m_samples, or fewer where a time limit needs (pilot.h)
     int m_eye_length = 2;     // bench/RESULTS.md, "Issue 17, session 16" (3 from session 12)
     bool m_rest_path = true;  // bdlightcuts.rest: path (true) or drop
+    bool m_glowing = false;   // the scene's media emit light (only the eye paths carry it)
     int m_rest_paths = 4;     // bdlightcuts.rest_paths: remainder paths per continued eye path
     // bdlightcuts.guiding: the remainder paths are guided (transport/sd_tree.h) by what the
     // remainders of the passes before them (the pilots' first) learned.

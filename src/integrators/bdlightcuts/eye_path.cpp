@@ -55,15 +55,15 @@ bool scatter(EyeState& s, const SurfaceInteraction& si, bool in_medium, const Bs
 
 EyeHit next_eye_hit(const Scene& scene, Ray* ray, Sampler& sampler, ScratchBuffer& scratch,
                     const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase,
-                    const StretchFn& stretch) {
+                    const StretchFn& stretch, RGB* emitted) {
     for (int crossing = 0; crossing < 256; ++crossing) {
         const bool hit = scene.intersect(*ray, si);
         if (*medium) {
             const UnitRay u = unit_ray(*ray, hit ? si->t : kInfinity);
             if (stretch) stretch(**medium, u, *beta);
             RGB unused;
-            const MediumCollision ev =
-                track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
+            const MediumCollision ev = track_medium(**medium, u.ray, u.tmax, sampler, beta,
+                                                    emitted ? emitted : &unused, emitted);
             if (ev.event == MediumEvent::Absorb || beta->is_black() || !beta->is_finite())
                 return EyeHit::Absorbed;
             if (ev.event == MediumEvent::Scatter) {

@@ -68,10 +68,11 @@ enum class EyeHit { Escaped, Surface, Medium, Absorbed };
 // function, as a medium gather point has them) or lets the ray pass to the first surface that is
 // not an interface (*ray: its last stretch, for the emission met); the interfaces it crosses
 // move *medium on. `stretch`, where given, is called with each stretch through a medium and
-// the throughput at its start, before the tracking.
+// the throughput at its start, before the tracking. `emitted`, where given, takes the light the
+// media emit along the way, times the throughput (as `path` counts it).
 using StretchFn = std::function<void(const Medium&, const UnitRay&, const RGB& beta)>;
 EyeHit next_eye_hit(const Scene& scene, Ray* ray, Sampler& sampler, ScratchBuffer& scratch,
                     const Medium** medium, RGB* beta, SurfaceInteraction* si, Bsdf* phase,
-                    const StretchFn& stretch);
+                    const StretchFn& stretch, RGB* emitted = nullptr);
 
 }  // namespace ml

@@ -90,6 +90,9 @@ public:
     float weight(const Bsdf& bsdf, const Vec3& wo, const Vec3& wi, bool specular,
                  const RGB* f) const override;
     bool vanishes(const Bsdf& bsdf, const Vec3& wo) const override;
+    // No split reaches light emitted by a medium (no light path starts in one): the remainder
+    // takes all of it.
+    bool weighs_media_emission() const override { return false; }
 
 private:
     const SplitWeightOptions& m_o;
