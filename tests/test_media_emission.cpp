@@ -12,6 +12,23 @@
 using namespace ml;
 using namespace ml::test;
 
+namespace {
+
+// The homogeneous coloured cloud (media_test_helpers.h) glowing, Le (3, 1.5, 0.5), at this max
+// depth.
+std::string glowing_cloud(int max_depth) {
+    std::string scene = coloured_cloud("homogeneous");
+    auto replace = [&](const std::string& from, const std::string& to) {
+        scene.replace(scene.find(from), from.size(), to);
+    };
+    replace("\"float g\" [ 0.6 ]", "\"float g\" [ 0.6 ] \"rgb Le\" [ 3 1.5 0.5 ]");
+    replace("\"integer maxdepth\" [ 4 ]",
+            "\"integer maxdepth\" [ " + std::to_string(max_depth) + " ]");
+    return scene;
+}
+
+}  // namespace
+
 TEST(Media, AnEmittingMediumGlowsAsItsClosedForm) {
     // An absorbing, emitting medium seen over a black background along a depth of 2:
     // L = Le (1 - exp(-2 sigma_a)).
@@ -36,13 +53,7 @@ TEST(Media, BdptAndPssmltCarryTheLightOfAnEmittingMediumAsPathDoes) {
     // eye paths find it (BDPT's s = 0, weight one). Max depth 3 also checks that emission after
     // k scattering vertices is counted at depth k + 1, as `path` counts it; per channel, pixel
     // by pixel, against path.
-    std::string scene = coloured_cloud("homogeneous");
-    auto replace = [&](const std::string& from, const std::string& to) {
-        scene.replace(scene.find(from), from.size(), to);
-    };
-    replace("\"float g\" [ 0.6 ]", "\"float g\" [ 0.6 ] \"rgb Le\" [ 3 1.5 0.5 ]");
-    replace("\"integer maxdepth\" [ 4 ]", "\"integer maxdepth\" [ 3 ]");
-    expect_integrators_agree_with_path(scene, {{"bdpt", 512}, {"pssmlt", 512}});
+    expect_integrators_agree_with_path(glowing_cloud(3), {{"bdpt", 512}, {"pssmlt", 512}});
 }
 
 TEST(Media, BidirectionalLightcutsCarriesTheLightOfAnEmittingMedium) {
@@ -52,12 +63,7 @@ TEST(Media, BidirectionalLightcutsCarriesTheLightOfAnEmittingMedium) {
     // handed to the remainder), max depth 6 (the remainder past the second VSP meets that light
     // too); per channel against path, pixel by pixel. And rest=drop, which would lose it, says
     // so.
-    std::string scene = coloured_cloud("homogeneous");
-    auto replace = [&](const std::string& from, const std::string& to) {
-        scene.replace(scene.find(from), from.size(), to);
-    };
-    replace("\"float g\" [ 0.6 ]", "\"float g\" [ 0.6 ] \"rgb Le\" [ 3 1.5 0.5 ]");
-    replace("\"integer maxdepth\" [ 4 ]", "\"integer maxdepth\" [ 6 ]");
+    const std::string scene = glowing_cloud(6);
     const Image path = render_text(scene, options(2048)).image;
     // The third: the energy weight alone, which leaves the remainders nothing of the other light
     // (their weight vanishes), so that they go on for the media's light alone.
