@@ -19,6 +19,33 @@ RGB exp_neg(const RGB& x) {
     return RGB(e(x.r), e(x.g), e(x.b));
 }
 
+// Collisions along the unit `ray` up to tmax with density sigma_maj exp(-int sigma_maj),
+// segment by segment of m's majorants: an optical depth drawn once per collision (when first
+// needed) is spent across the segments it passes. at(t, sigma_maj) is called at each collision
+// and returns false to stop there; returns whether it stopped.
+template <class AtCollision>
+bool for_each_collision(const Medium& m, const Ray& ray, float tmax, Sampler& sampler,
+                        const AtCollision& at) {
+    MajorantIterator segments = m.majorants(ray, tmax);
+    float tau = -1;  // -1: none drawn yet
+    while (const std::optional<MajorantSegment> seg = segments.next()) {
+        const float sigma_maj = seg->sigma_maj;
+        if (!(sigma_maj > 0)) continue;  // nothing there
+        float t = seg->t0;
+        for (;;) {
+            if (tau < 0) tau = -std::log1p(-sampler.get_1d());
+            if (!(tau < sigma_maj * (seg->t1 - t))) {
+                tau -= sigma_maj * (seg->t1 - t);
+                break;
+            }
+            t += tau / sigma_maj;
+            tau = -1;  // spent: the next collision draws its own
+            if (!at(t, sigma_maj)) return true;
+        }
+    }
+    return false;
+}
+
 // The transmittance of `m` along the unit `ray` up to tmax: closed form where it is
 // homogeneous, else ratio tracking (with Russian roulette once it is small).
 RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& sampler) {
@@ -29,29 +56,18 @@ RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& s
         return exp_neg((mp.sigma_a + mp.sigma_s) * (seg->t1 - seg->t0));
     }
     RGB tr(1.f);
-    MajorantIterator segments = m.majorants(ray, tmax);
-    float tau = -1;  // as track_medium spends it
-    while (const std::optional<MajorantSegment> seg = segments.next()) {
-        if (!(seg->sigma_maj > 0)) continue;  // nothing there
-        float t = seg->t0;
-        for (;;) {
-            if (tau < 0) tau = -std::log1p(-sampler.get_1d());
-            if (!(tau < seg->sigma_maj * (seg->t1 - t))) {
-                tau -= seg->sigma_maj * (seg->t1 - t);
-                break;
-            }
-            t += tau / seg->sigma_maj;
-            tau = -1;  // spent: the next collision draws its own
-            const MediumProperties mp = m.at(ray.at(t));
-            tr *= clamp_zero(RGB(1.f) - (mp.sigma_a + mp.sigma_s) / seg->sigma_maj);
-            const float mx = tr.max_component();
-            if (!(mx > 0)) return RGB();
-            if (mx < 0.1f) {
-                if (sampler.get_1d() < 0.5f) return RGB();
-                tr *= 2.f;
-            }
+    const bool stopped = for_each_collision(m, ray, tmax, sampler, [&](float t, float sigma_maj) {
+        const MediumProperties mp = m.at(ray.at(t));
+        tr *= clamp_zero(RGB(1.f) - (mp.sigma_a + mp.sigma_s) / sigma_maj);
+        const float mx = tr.max_component();
+        if (!(mx > 0)) return false;
+        if (mx < 0.1f) {
+            if (sampler.get_1d() < 0.5f) return false;
+            tr *= 2.f;
         }
-    }
+        return true;
+    });
+    if (stopped) return RGB();
     return tr;
 }
 
@@ -140,41 +156,31 @@ UnitRay unit_ray(const Ray& r, float tmax) {
 
 MediumCollision track_medium(const Medium& m, const Ray& ray, float tmax, Sampler& sampler,
                              RGB* beta, RGB* L, bool emission) {
-    // Collisions with density sigma_maj exp(-int sigma_maj), segment by segment: an optical
-    // depth tau drawn once per collision (when first needed; -1: none yet) is spent across the
-    // segments it passes.
-    MajorantIterator segments = m.majorants(ray, tmax);
-    float tau = -1;
-    while (const std::optional<MajorantSegment> seg = segments.next()) {
-        const float sigma_maj = seg->sigma_maj;
-        if (!(sigma_maj > 0)) continue;  // nothing there
-        float t = seg->t0;
-        for (;;) {
-            if (tau < 0) tau = -std::log1p(-sampler.get_1d());
-            if (!(tau < sigma_maj * (seg->t1 - t))) {
-                tau -= sigma_maj * (seg->t1 - t);
-                break;
-            }
-            t += tau / sigma_maj;
-            tau = -1;  // spent: the next collision draws its own
-            const MediumProperties mp = m.at(ray.at(t));
-            if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
-            const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
-            const float pa = channel_mean(*beta * mp.sigma_a),
-                        ps = channel_mean(*beta * mp.sigma_s), pn = channel_mean(*beta * sigma_n);
-            const float c = pa + ps + pn;
-            if (!(c > 0)) return {MediumEvent::Absorb, t};
-            const float u = sampler.get_1d() * c;
-            if (u < pa) return {MediumEvent::Absorb, t};
-            if (u < pa + ps) {
-                *beta *= mp.sigma_s * (c / (ps * sigma_maj));
-                return {MediumEvent::Scatter, t};
-            }
-            *beta *= sigma_n * (c / (pn * sigma_maj));
-            if (beta->is_black()) return {MediumEvent::Absorb, t};
+    // Absorbed, scattered or null by their shares at each collision (for_each_collision).
+    MediumCollision out;
+    for_each_collision(m, ray, tmax, sampler, [&](float t, float sigma_maj) {
+        const MediumProperties mp = m.at(ray.at(t));
+        if (emission && m.emits()) *L += *beta * mp.sigma_a * mp.Le / sigma_maj;
+        const RGB sigma_n = clamp_zero(RGB(sigma_maj) - mp.sigma_a - mp.sigma_s);
+        const float pa = channel_mean(*beta * mp.sigma_a), ps = channel_mean(*beta * mp.sigma_s),
+                    pn = channel_mean(*beta * sigma_n);
+        const float c = pa + ps + pn;
+        const float u = c > 0 ? sampler.get_1d() * c : 0.f;
+        if (!(c > 0) || u < pa) {
+            out = {MediumEvent::Absorb, t};
+            return false;
         }
-    }
-    return {};
+        if (u < pa + ps) {
+            *beta *= mp.sigma_s * (c / (ps * sigma_maj));
+            out = {MediumEvent::Scatter, t};
+            return false;
+        }
+        *beta *= sigma_n * (c / (pn * sigma_maj));
+        if (!beta->is_black()) return true;
+        out = {MediumEvent::Absorb, t};
+        return false;
+    });
+    return out;
 }
 
 const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current) {
