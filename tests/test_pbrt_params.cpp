@@ -64,6 +64,8 @@ std::string base_params(const PbrtParam& row, const std::string& dir) {
     } else if (d == "Material" && t == "subsurface" && (own == "sigma_a" || own == "sigma_s")) {
         add("sigma_a", "\"rgb sigma_a\" [ 0.1 0.2 0.3 ]");
         add("sigma_s", "\"rgb sigma_s\" [ 1 2 3 ]");
+    } else if (d == "Material" && t == "measured") {
+        add("filename", "\"string filename\" \"" + dir + "/brdf.bsdf\"");
     } else if (d == "Material" && t == "mix") {
         add("materials", "\"string materials\" [ \"ma\" \"mb\" ]");
     } else if (d == "Shape" && t == "loopsubdiv") {
@@ -141,6 +143,8 @@ protected:
         write_image(m_dir.file("tex.exr"), tex);
         std::filesystem::copy_file(MANYLIGHT_SOURCE_DIR "/tests/scenes/dgauss_50mm.dat",
                                    m_dir.file("lens.dat"));
+        std::filesystem::copy_file(MANYLIGHT_SOURCE_DIR "/tests/scenes/mat_measured.bsdf",
+                                   m_dir.file("brdf.bsdf"));
         m_dir.write("tri.ply",
                     ml::test::binary_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}));
         // A NanoVDB fog volume of 4^3 voxels of density 1.

@@ -163,6 +163,12 @@ TEST(PbrtReference, AlphaOnCurves) {
     expect_matches_pbrt("shape_curve_alpha", "lightcuts");
 }
 TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }
+// A measured BRDF (a synthetic RGL .bsdf file, coloured spectra): by path, and by VPLs on it and
+// gather points on it in `manylight`.
+TEST(PbrtReference, MeasuredMaterial) { expect_matches_pbrt("mat_measured"); }
+TEST(PbrtReference, MeasuredMaterialByBdlightcuts) {
+    expect_matches_pbrt("mat_measured", "bdlightcuts");
+}
 TEST(PbrtReference, RealisticCamera) { expect_matches_pbrt("camera_realistic"); }
 TEST(PbrtReference, RealisticCameraStarAperture) { expect_matches_pbrt("camera_realistic_star"); }
 // An image file as the stop: an 8-bit grey L (pbrt-v4 keeps it 8-bit, so unscaled above 1), whose

@@ -275,7 +275,7 @@ TEST_F(TextureTest, MaterialTexturesAndErrors) {
         ParameterList pl = plist(std::move(ps));
         create_material(type, pl, m_textures, FileLoc{"scene.pbrt", 9, 1});
     };
-    EXPECT_THROW(bad("measured", {}), InputError);
+    EXPECT_THROW(bad("measured", {}), InputError);  // no filename
     EXPECT_THROW(bad("plastic", {}), InputError);
     EXPECT_THROW(bad("diffuse", {tex("reflectance", "undefined")}), InputError);
     EXPECT_THROW(bad("diffuse", {str("normalmap", "n.png")}), InputError);
@@ -290,7 +290,8 @@ TEST_F(TextureTest, MaterialTexturesAndErrors) {
     try {
         bad("measured", {});
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("\"measured\" is not supported"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("\"string filename\" (a .bsdf file) is required"),
+                  std::string::npos);
     }
     try {
         bad("plastic", {});

@@ -3,6 +3,8 @@
 #include <cstring>
 #include <map>
 
+#include "core/spectrum.h"
+
 namespace ml {
 
 void ParameterList::add(Param p) {
@@ -248,35 +250,10 @@ double planck(double lambda_nm, double kelvin) {
     return (2 * h * c * c) / (std::pow(l, 5) * (std::exp((h * c) / (l * kb * kelvin)) - 1));
 }
 
-// Linear sRGB of a spectrum: integrated over 360-830 nm (per nm) against the CIE 1931 matching
-// functions (Wyman et al. 2013 fits), as pbrt-v4's film does (a flat spectrum of 1 has Y = 106.9).
-template <class F>
-RGB spectrum_srgb(const F& spectrum) {
-    auto g = [](float x, float mu, float s1, float s2) {
-        float t = (x - mu) / (x < mu ? s1 : s2);
-        return std::exp(-0.5f * t * t);
-    };
-    double X = 0, Y = 0, Z = 0;
-    for (float lambda = 360; lambda <= 830; lambda += 1) {
-        const double le = spectrum(lambda);
-        float x = 1.056f * g(lambda, 599.8f, 37.9f, 31.0f) +
-                  0.362f * g(lambda, 442.0f, 16.0f, 26.7f) -
-                  0.065f * g(lambda, 501.1f, 20.4f, 26.2f);
-        float y =
-            0.821f * g(lambda, 568.8f, 46.9f, 40.5f) + 0.286f * g(lambda, 530.9f, 16.3f, 31.1f);
-        float z =
-            1.217f * g(lambda, 437.0f, 11.8f, 36.0f) + 0.681f * g(lambda, 459.0f, 26.0f, 13.8f);
-        X += le * x, Y += le * y, Z += le * z;
-    }
-    return RGB(float(3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z),
-               float(-0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z),
-               float(0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z));
-}
-
 }  // namespace
 
 RGB blackbody_rgb(float kelvin) {
-    RGB rgb = clamp_zero(spectrum_srgb([&](double l) { return planck(l, kelvin); }));
+    RGB rgb = clamp_zero(emission_srgb([&](double l) { return planck(l, kelvin); }));
     float m = rgb.max_component();
     return m > 0 ? rgb / m : RGB();
 }
@@ -285,7 +262,7 @@ RGB blackbody_radiance_rgb(float kelvin) {
     if (!(kelvin > 0)) return RGB();
     // pbrt-v4's BlackbodySpectrum: Planck's law over its value at the peak (Wien's law).
     const double peak = planck(2.8977721e-3 / kelvin * 1e9, kelvin);
-    return clamp_zero(spectrum_srgb([&](double l) { return planck(l, kelvin) / peak; }));
+    return clamp_zero(emission_srgb([&](double l) { return planck(l, kelvin) / peak; }));
 }
 
 }  // namespace ml

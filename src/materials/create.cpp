@@ -1,6 +1,6 @@
 // The `Material` directive's factory: pbrt-v4's parameter names and defaults for diffuse,
 // conductor, dielectric, thindielectric, coateddiffuse, coatedconductor, diffusetransmission,
-// mix, interface, hair and subsurface.
+// mix, interface, hair, subsurface and measured.
 #include "materials/create.h"
 
 #include <cmath>
@@ -9,6 +9,7 @@
 #include "materials/beam_diffusion.h"
 #include "materials/hair.h"
 #include "materials/materials.h"
+#include "materials/measured.h"
 #include "materials/textures.h"
 
 namespace ml {
@@ -198,7 +199,8 @@ std::unique_ptr<Material> create_subsurface(const ParameterList& params, const M
 // The material itself, before its normal map.
 std::unique_ptr<Material> create_material_of_type(
     const std::string& type, const ParameterList& params, const NamedTextures& textures,
-    const FileLoc& loc, const std::map<std::string, const Material*>& named) {
+    const FileLoc& loc, const std::map<std::string, const Material*>& named,
+    const std::string& base_dir) {
     MaterialParams mp(params, textures);
     auto displacement = mp.displacement();
 
@@ -346,8 +348,14 @@ std::unique_ptr<Material> create_material_of_type(
             mp.get_float("beta_n", 0.3f), mp.get_float("alpha", 2.f));
     }
     if (type == "subsurface") return create_subsurface(params, mp, displacement, loc);
-    if (type == "measured")
-        throw_input_error(loc, "the pbrt-v4 material \"{}\" is not supported by manylight", type);
+    if (type == "measured") {
+        const std::string filename = params.get_string("filename", "");
+        if (filename.empty())
+            throw_input_error(loc, "measured: \"string filename\" (a .bsdf file) is required");
+        return std::make_unique<MeasuredMaterial>(
+            load_measured_brdf(resolve_path(filename, base_dir), loc_of(params, "filename", loc)),
+            displacement);
+    }
     throw_input_error(loc, "unknown material type \"{}\"", type);
 }
 
@@ -357,7 +365,7 @@ std::unique_ptr<Material> create_material(const std::string& type, const Paramet
                                           const NamedTextures& textures, const FileLoc& loc,
                                           const std::map<std::string, const Material*>& named,
                                           ImageCache* images, const std::string& base_dir) {
-    auto material = create_material_of_type(type, params, textures, loc, named);
+    auto material = create_material_of_type(type, params, textures, loc, named, base_dir);
     if (!params.has("normalmap")) return material;
     const FileLoc& at = loc_of(params, "normalmap", loc);
     const std::string filename = params.get_string("normalmap", "");

@@ -103,6 +103,12 @@ std::shared_ptr<const Image> ImageCache::get(const std::string& path, const File
     return img;
 }
 
+std::string resolve_path(const std::string& name, const std::string& base_dir) {
+    std::filesystem::path p(name);
+    if (p.is_absolute() || base_dir.empty()) return name;
+    return (std::filesystem::path(base_dir) / p).lexically_normal().string();
+}
+
 namespace {
 
 struct Encoding {
@@ -172,12 +178,6 @@ std::shared_ptr<const Image> linear_image(ImageCache& cache, const std::string& 
     cache.images.erase(path);
     cache.images[key] = decoded;
     return decoded;
-}
-
-std::string resolve_path(const std::string& name, const std::string& base_dir) {
-    std::filesystem::path p(name);
-    if (p.is_absolute() || base_dir.empty()) return name;
-    return (std::filesystem::path(base_dir) / p).lexically_normal().string();
 }
 
 const FileLoc& loc_of(const ParameterList& params, const std::string& name, const FileLoc& def) {

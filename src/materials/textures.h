@@ -106,6 +106,9 @@ private:
     bool m_point;
 };
 
+// A file name of the scene, relative to the scene file's folder unless absolute.
+std::string resolve_path(const std::string& name, const std::string& base_dir);
+
 struct ImageCache;
 // pbrt-v4's "normalmap": the image of `filename` (relative to `base_dir`) read as linear values
 // (no sRGB decode, whatever the format), looked up at (u, v) bilinearly, repeating.

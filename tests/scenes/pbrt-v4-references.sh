@@ -14,7 +14,8 @@ names=("$@")
   light_goniometric light_projection light_area_image mat_coateddiffuse mat_coatedconductor
   mat_coatedconductor_depth2 mat_interface media_cloud media_walk media_nanovdb mat_normalmap media_fire
   media_caustic shape_curve shape_curve_alpha shape_curve_motion mat_hair camera_realistic
-  camera_realistic_star camera_realistic_image shape_loopsubdiv film_crop light_alpha light_portal light_invisible)
+  camera_realistic_star camera_realistic_image shape_loopsubdiv film_crop light_alpha light_portal light_invisible
+  mat_measured)
 for n in "${names[@]}"; do
   echo "== $n"
   spp=1024
