@@ -318,9 +318,9 @@ TEST(MediaErrors, WhatIsNotSupportedSaysSo) {
                 << e.what();
         }
     }
-    // Light paths start at the lights, never in an emitting medium: what joins light paths
-    // (or has none but VPLs') refuses it.
-    for (const char* integrator : {"lighttracer", "vpl", "mdlightcuts"}) try {
+    // Light paths start at the lights, never in an emitting medium: what joins light paths to
+    // the lens refuses it.
+    for (const char* integrator : {"lighttracer"}) try {
             RenderOptions opt = options(1);
             opt.integrator = integrator;
             render_text(

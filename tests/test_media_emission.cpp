@@ -1,6 +1,7 @@
 // Light emitted by participating media: `path` against the closed form, and every integrator
 // that carries it (`bdpt` and `pssmlt` by BDPT's strategy s = 0, `bdlightcuts` by its eye paths
-// and their remainders) against `path`, per channel, pixel by pixel.
+// and their remainders, the other many-light integrators by their camera paths and paths
+// continued past their gather points) against `path`, per channel, pixel by pixel.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -89,5 +90,26 @@ TEST(Media, BidirectionalLightcutsCarriesTheLightOfAnEmittingMedium) {
     } catch (const UsageError& e) {
         EXPECT_NE(std::string(e.what()).find("the scene's media emit light"), std::string::npos)
             << e.what();
+    }
+}
+
+TEST(Media, GatherPointIntegratorsCarryTheLightOfAnEmittingMedium) {
+    // The glowing cloud by the integrators that gather (manylight/gather.h): the camera path's
+    // tracking takes the emission it passes, and a path continued past each gather point (by its
+    // non-delta lobes) takes what reaches it, the point lights carrying the rest. Max depth 3
+    // checks the depths they count it at; per channel, pixel by pixel, against path. (igi with
+    // its clamp off, since clamped it is a preview, and without interleaving: in this cloud at
+    // max depth 3 its 4x4 interleaving alone, glow or none, is 3% to 5% off in blue.)
+    const std::string scene = glowing_cloud(3);
+    const Image path = render_text(scene, options(2048)).image;
+    for (const char* integrator :
+         {"vpl", "lightcuts", "mdlightcuts", "stochasticlightcuts", "igi"}) {
+        SCOPED_TRACE(integrator);
+        RenderOptions opt = options(256);
+        opt.integrator = integrator;
+        opt.set["vpl.count"] = "2000";
+        if (std::string(integrator) == "igi")
+            opt.set = {{"vpl.clamp", "0"}, {"igi.vpls", "2000"}, {"igi.interleave", "1x1"}};
+        expect_agrees_with_path(render_text(scene, opt).image, path, integrator, 0.03);
     }
 }

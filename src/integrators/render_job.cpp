@@ -328,16 +328,20 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                 "bdlightcuts or igi",
                 name));
         // Light emitted by a medium reaches the film only by eye paths (no light path starts
-        // in one): `path`'s, BDPT's strategy s = 0 (so `pssmlt` too) and bdlightcuts' eye
-        // paths with their remainders.
-        static const std::set<std::string> kEmission = {"path", "bdpt", "pssmlt", "bdlightcuts"};
+        // in one): `path`'s, BDPT's strategy s = 0 (so `pssmlt` too), bdlightcuts' eye paths
+        // with their remainders, and the other many-light integrators' camera paths with paths
+        // continued past their gather points for it (manylight/gather.h).
+        static const std::set<std::string> kEmission = {
+            "path",        "bdpt",      "pssmlt",
+            "vpl",         "lightcuts", "mdlightcuts",
+            "bdlightcuts", "igi",       "stochasticlightcuts"};
         if (!kEmission.count(name))
             for (const auto& m : desc.media)
                 if (m->emits())
                     throw UsageError(fmt::format(
                         "integrator \"{}\" does not carry light emitted by a medium (no light "
                         "path starts in one); render it with --integrator path, bdpt, pssmlt or "
-                        "bdlightcuts",
+                        "one of the many-light integrators",
                         name));
     }
     if (bias_check_enabled(opt.bias_check, name))

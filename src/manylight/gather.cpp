@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "lights/light.h"
+#include "lights/light_sampler.h"
 #include "materials/material.h"
 #include "transport/direct_lighting.h"
 #include "transport/phase_bxdf.h"
@@ -129,23 +130,21 @@ bool stratified_medium_points(const Medium& m, const Medium* medium, const UnitR
 
 bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
                            const GatherOptions& options, const Medium** medium, RGB* beta, RGB* L,
-                           GatherPoint* g, std::vector<GatherPoint>* points) {
+                           GatherPoint* g, std::vector<GatherPoint>* points, bool media_emission) {
     // Interfaces crossed in a row; a scene of nested boundaries crosses a few.
     for (int crossing = 0; crossing < 256; ++crossing) {
         SurfaceInteraction si;
         const bool hit = scene.intersect(ray, &si);
         if (*medium) {
             const UnitRay u = unit_ray(ray, hit ? si.t : kInfinity);
+            // (An emitting medium is tracked: its emission comes with the tracking.)
             const bool stratified =
-                options.medium_points > 0 && (*medium)->homogeneous() &&
+                options.medium_points > 0 && (*medium)->homogeneous() && !(*medium)->emits() &&
                 stratified_medium_points(**medium, *medium, u, options.medium_points,
                                          options.toward, ray.time, sampler, scratch, beta, points);
             if (!stratified) {
-                // Emission inside media is refused by the many-light integrators (no VPL
-                // carries it).
-                RGB unused;
                 const MediumCollision ev =
-                    track_medium(**medium, u.ray, u.tmax, sampler, beta, &unused, false);
+                    track_medium(**medium, u.ray, u.tmax, sampler, beta, L, media_emission);
                 if (ev.event == MediumEvent::Absorb) return false;
                 if (ev.event == MediumEvent::Scatter) {
                     if (beta->is_black() || !beta->is_finite()) return false;
@@ -182,6 +181,17 @@ bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch,
     if (!hit) return false;
     g->bsdf = hit_bsdf(g->si, scratch);
     return bool(g->bsdf);
+}
+
+RGB media_emission_after(const Scene& scene, const GatherPoint& g, int depth, int max_depth,
+                         Sampler& sampler, ScratchBuffer& scratch) {
+    static const MediaEmissionOnly only;
+    static const LightSampler none("uniform", std::span<const Light* const>{});
+    PathTraceOptions options;
+    options.max_depth = max_depth;
+    options.equiangular = false;
+    return continue_volumetric(scene, VolumeVertex{g.si, g.medium, g.in_medium}, depth, g.beta,
+                               sampler, scratch, none, options, &only);
 }
 
 bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray) {

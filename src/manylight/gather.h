@@ -118,7 +118,12 @@ bool next_gather_hit(const Scene& scene, const Ray& ray, ScratchBuffer& scratch,
 // point as next_gather_hit does.
 bool next_gather_hit_media(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& scratch,
                            const GatherOptions& options, const Medium** medium, RGB* beta, RGB* L,
-                           GatherPoint* g, std::vector<GatherPoint>* points);
+                           GatherPoint* g, std::vector<GatherPoint>* points, bool media_emission);
+// The light that participating media emit, brought to gather point g (reached after `depth`
+// scattering vertices) by paths continued past it through its non-delta lobes: the point lights
+// carry none of it (no light path starts in a medium).
+RGB media_emission_after(const Scene& scene, const GatherPoint& g, int depth, int max_depth,
+                         Sampler& sampler, ScratchBuffer& scratch);
 // Samples g's BSDF: true with the new ray and throughput when the sample is a delta lobe.
 bool continue_through_delta(const GatherPoint& g, Sampler& sampler, RGB* beta, Ray* ray);
 }  // namespace detail
@@ -133,15 +138,21 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
     // In media only; kept per thread so that camera rays do not allocate (gather_along does not
     // nest: no shade() gathers again).
     thread_local std::vector<GatherPoint> points;
+    // Light emitted by media: along the camera path as it goes, and past each gather point.
+    const bool glowing = media && scene.has_emitting_media();
     for (int depth = 0;; ++depth) {
         if (media) {
             points.clear();
             const bool surface = detail::next_gather_hit_media(
-                scene, ray, sampler, scratch, options, &medium, &beta, &L, &g, &points);
+                scene, ray, sampler, scratch, options, &medium, &beta, &L, &g, &points,
+                glowing && depth < options.max_depth);
             for (GatherPoint& p : points) {
                 p.sampler = &sampler;
                 float u = sampler.get_1d();
                 L += shade(p, u);
+                if (glowing)
+                    L += detail::media_emission_after(scene, p, depth, options.max_depth, sampler,
+                                                      scratch);
             }
             if (!surface) return L;
             g.sampler = &sampler;
@@ -152,6 +163,9 @@ RGB gather_along(const Scene& scene, Ray ray, Sampler& sampler, ScratchBuffer& s
         if (g.bsdf.has_nonspecular()) {
             float u = sampler.get_1d();
             L += shade(g, u);
+            if (glowing)
+                L += detail::media_emission_after(scene, g, depth, options.max_depth, sampler,
+                                                  scratch);
         }
         if (depth == options.max_depth || !(g.bsdf.flags() & kBxdfSpecular)) return L;
         if (!detail::continue_through_delta(g, sampler, &beta, &ray)) return L;

@@ -53,6 +53,9 @@ public:
     // unweighted (no other estimator of the caller's finds it): the path then goes on for that
     // light alone where the weight is 0.
     virtual bool weighs_media_emission() const { return true; }
+    // False where the paths leave the first vertex by its non-delta lobes only (the caller
+    // follows its delta lobes itself): a delta sample there ends the path.
+    virtual bool takes_delta_lobes() const { return true; }
 };
 
 // The radiance that paths continued past `si` bring back along si.wo, times the throughput

@@ -278,33 +278,36 @@ public:
         const LightSampleContext ctx{p, Vec3(), Vec3()};
         const Medium* here = medium;
         const Bsdf phase = first ? phase_bsdf(wo, g, m_scratch) : Bsdf();
-        if (first && !whole_emission && first->vanishes(phase, wo)) return false;
+        const bool weighted_out = first && first->vanishes(phase, wo);
+        if (weighted_out && !whole_emission) return false;
         auto weight_of = [&](const Vec3& wi, const RGB* f) {
             return first ? first->weight(phase, wo, wi, false, f) : 1.f;
         };
-        add(beta * sample_direct(
-                       m_scene, ctx, Vec3(), time, m_lights, m_sampler,
-                       [&](const Vec3& wi) {
-                           const float ph = hg_phase(wo, wi, g);
-                           float w = 1.f;
-                           if (first) {
-                               const RGB f = phase.eval(wo, wi);
-                               w = weight_of(wi, &f);
-                           }
-                           return std::pair<RGB, float>(RGB(ph * w), ph);
-                       },
-                       [&](const Vec3&) { return here; },
-                       [&](const Light& light, float pmf) {
-                           // Against the segment's equiangular sample of this light.
-                           if (!grey.valid || !u || light.type() != LightType::DeltaPosition)
-                               return 1.f;
-                           const auto c = light_position(light);
-                           if (!c) return 1.f;
-                           const Equiangular eq(u->ray, u->tmax, *c);
-                           if (!eq.valid) return 1.f;
-                           return mis_square(pmf * grey.pdf_length(t_event),
-                                             m_lights.pmf(&light) * eq.pdf_length(t_event));
-                       }));
+        // (A path that goes on only for the media's emission takes no light samples.)
+        if (!weighted_out && path_weight != 0.f)
+            add(beta * sample_direct(
+                           m_scene, ctx, Vec3(), time, m_lights, m_sampler,
+                           [&](const Vec3& wi) {
+                               const float ph = hg_phase(wo, wi, g);
+                               float w = 1.f;
+                               if (first) {
+                                   const RGB f = phase.eval(wo, wi);
+                                   w = weight_of(wi, &f);
+                               }
+                               return std::pair<RGB, float>(RGB(ph * w), ph);
+                           },
+                           [&](const Vec3&) { return here; },
+                           [&](const Light& light, float pmf) {
+                               // Against the segment's equiangular sample of this light.
+                               if (!grey.valid || !u || light.type() != LightType::DeltaPosition)
+                                   return 1.f;
+                               const auto c = light_position(light);
+                               if (!c) return 1.f;
+                               const Equiangular eq(u->ray, u->tmax, *c);
+                               if (!eq.valid) return 1.f;
+                               return mis_square(pmf * grey.pdf_length(t_event),
+                                                 m_lights.pmf(&light) * eq.pdf_length(t_event));
+                           }));
         const Vec3 wi = sample_hg_phase(wo, g, m_sampler.get_2d());
         if (first) path_weight = weight_of(wi, nullptr);
         // The phase function is its own density: the throughput keeps its value.
@@ -319,9 +322,10 @@ public:
     bool scatter_at_surface(SurfaceInteraction& si, const FirstBounceWeight* first) {
         Bsdf bsdf = hit_bsdf(si, m_scratch);
         if (!bsdf) return false;
-        if (first && !whole_emission && first->vanishes(bsdf, si.wo)) return false;
+        const bool weighted_out = first && first->vanishes(bsdf, si.wo);
+        if (weighted_out && !whole_emission) return false;
         // Next-event estimation through the media, then the BSDF's direction.
-        if (bsdf.has_nonspecular()) {
+        if (bsdf.has_nonspecular() && !weighted_out && path_weight != 0.f) {
             const Medium* arrived = medium;
             add(beta * sample_direct(
                            m_scene, light_context(si), si.offset(), si.time, m_lights, m_sampler,
@@ -339,6 +343,7 @@ public:
         const Vec2 u = m_sampler.get_2d();
         const auto bs = bsdf.sample(si.wo, uc, u);
         if (!bs) return false;
+        if (first && bs->is_specular() && !first->takes_delta_lobes()) return false;
         beta *= bs->f * (abs_dot(bs->wi, si.ns) / bs->pdf_solid_angle);
         if (first) path_weight = first->weight(bsdf, si.wo, bs->wi, bs->is_specular(), nullptr);
         specular_bounce = bs->is_specular();
@@ -377,7 +382,7 @@ private:
             // weighed by MIS against the tracking below finding the same point.
             const GreyTracking grey =
                 m_options.equiangular ? GreyTracking(*medium, beta) : GreyTracking();
-            if (grey.valid && depth < m_options.max_depth)
+            if (grey.valid && depth < m_options.max_depth && path_weight != 0.f)
                 add(beta * equiangular_single_scattering(m_scene, *medium, u.ray, u.tmax, grey,
                                                          m_lights, m_sampler));
             RGB emitted;

@@ -75,6 +75,20 @@ RGB continue_volumetric(const Scene& scene, const VolumeVertex& v, int depth, RG
                         Sampler& sampler, ScratchBuffer& scratch, const LightSampler& light_sampler,
                         const PathTraceOptions& options, const FirstBounceWeight* first = nullptr);
 
+// The paths continued past a vertex for the light participating media emit alone, leaving it by
+// its non-delta lobes: for callers whose own estimators find every other light there (the
+// gather points of the many-light integrators, whose point lights stand for the rest and whose
+// camera paths follow the delta lobes themselves).
+class MediaEmissionOnly final : public FirstBounceWeight {
+public:
+    float weight(const Bsdf&, const Vec3&, const Vec3&, bool, const RGB*) const override {
+        return 0;
+    }
+    bool vanishes(const Bsdf&, const Vec3&) const override { return true; }
+    bool weighs_media_emission() const override { return false; }
+    bool takes_delta_lobes() const override { return false; }
+};
+
 // A ray with a unit direction, and the length its parameter had per unit: media work in
 // world distances.
 struct UnitRay {
