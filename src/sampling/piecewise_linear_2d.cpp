@@ -142,44 +142,42 @@ PiecewiseLinear2D::Point PiecewiseLinear2D::sample(Vec2 u, std::span<const float
             ((1 - sx) * c0 + sx * c1) * m_scale};
 }
 
+PiecewiseLinear2D::Patch PiecewiseLinear2D::patch(Vec2 p, const Slices& s) const {
+    Patch q;
+    const uint32_t nx = uint32_t(m_nx), n = nx * uint32_t(m_ny);
+    const float fx = std::clamp(p.x, 0.f, 1.f) * float(m_nx - 1);
+    const float fy = std::clamp(p.y, 0.f, 1.f) * float(m_ny - 1);
+    q.col = std::min(int(fx), m_nx - 2), q.row = std::min(int(fy), m_ny - 2);
+    q.sx = fx - float(q.col), q.ty = fy - float(q.row);
+    q.at = uint32_t(q.row) * nx + uint32_t(q.col);
+    const float v00 = lookup(m_data, n, q.at, s), v10 = lookup(m_data, n, q.at + 1, s);
+    const float v01 = lookup(m_data, n, q.at + nx, s), v11 = lookup(m_data, n, q.at + nx + 1, s);
+    q.c0 = (1 - q.ty) * v00 + q.ty * v01, q.c1 = (1 - q.ty) * v10 + q.ty * v11;
+    return q;
+}
+
 PiecewiseLinear2D::Point PiecewiseLinear2D::invert(Vec2 p, std::span<const float> params) const {
     ML_ASSERT(!m_marginal.empty(), "sampling a table built without its CDFs");
     const Slices s = slices(params);
     const uint32_t nx = uint32_t(m_nx), n = nx * uint32_t(m_ny);
-    const float fx = std::clamp(p.x, 0.f, 1.f) * float(m_nx - 1);
-    const float fy = std::clamp(p.y, 0.f, 1.f) * float(m_ny - 1);
-    const int col = std::min(int(fx), m_nx - 2), row = std::min(int(fy), m_ny - 2);
-    const float sx = fx - float(col), ty = fy - float(row);
-    const uint32_t off = uint32_t(row) * nx, at = off + uint32_t(col);
-
-    const float v00 = lookup(m_data, n, at, s), v10 = lookup(m_data, n, at + 1, s);
-    const float v01 = lookup(m_data, n, at + nx, s), v11 = lookup(m_data, n, at + nx + 1, s);
-    const float c0 = (1 - ty) * v00 + ty * v01, c1 = (1 - ty) * v10 + ty * v11;
-    const float pdf = (1 - sx) * c0 + sx * c1;
-
+    const Patch q = patch(p, s);
+    const float sx = q.sx, ty = q.ty, c0 = q.c0, c1 = q.c1;
+    const uint32_t off = uint32_t(q.row) * nx;
     const float r0 = lookup(m_conditional, n, off + nx - 1, s);
     const float r1 = lookup(m_conditional, n, off + 2 * nx - 1, s);
     const float row_total = (1 - ty) * r0 + ty * r1;
     const float along = sx * (c0 + 0.5f * sx * (c1 - c0)) +
-                        (1 - ty) * lookup(m_conditional, n, at, s) +
-                        ty * lookup(m_conditional, n, at + nx, s);
+                        (1 - ty) * lookup(m_conditional, n, q.at, s) +
+                        ty * lookup(m_conditional, n, q.at + nx, s);
     const float ux = row_total > 0 ? along / row_total : 0.f;
     const float uy =
-        ty * (r0 + 0.5f * ty * (r1 - r0)) + lookup(m_marginal, uint32_t(m_ny), uint32_t(row), s);
-    return {Vec2(ux, uy), pdf * m_scale};
+        ty * (r0 + 0.5f * ty * (r1 - r0)) + lookup(m_marginal, uint32_t(m_ny), uint32_t(q.row), s);
+    return {Vec2(ux, uy), ((1 - sx) * c0 + sx * c1) * m_scale};
 }
 
 float PiecewiseLinear2D::eval(Vec2 p, std::span<const float> params) const {
-    const Slices s = slices(params);
-    const uint32_t nx = uint32_t(m_nx), n = nx * uint32_t(m_ny);
-    const float fx = std::clamp(p.x, 0.f, 1.f) * float(m_nx - 1);
-    const float fy = std::clamp(p.y, 0.f, 1.f) * float(m_ny - 1);
-    const int col = std::min(int(fx), m_nx - 2), row = std::min(int(fy), m_ny - 2);
-    const float sx = fx - float(col), ty = fy - float(row);
-    const uint32_t at = uint32_t(row) * nx + uint32_t(col);
-    const float v00 = lookup(m_data, n, at, s), v10 = lookup(m_data, n, at + 1, s);
-    const float v01 = lookup(m_data, n, at + nx, s), v11 = lookup(m_data, n, at + nx + 1, s);
-    return ((1 - ty) * ((1 - sx) * v00 + sx * v10) + ty * ((1 - sx) * v01 + sx * v11)) * m_scale;
+    const Patch q = patch(p, slices(params));
+    return ((1 - q.sx) * q.c0 + q.sx * q.c1) * m_scale;
 }
 
 }  // namespace ml

@@ -53,6 +53,14 @@ private:
     // blended over the slices.
     float lookup(const std::vector<float>& table, uint32_t stride, uint32_t at,
                  const Slices& s) const;
+    // The bilinear patch holding p: its corner `at`, p's place in it, and the values along its
+    // two columns' edges interpolated to p's height (c0 on the left, c1 on the right).
+    struct Patch {
+        int col = 0, row = 0;
+        uint32_t at = 0;
+        float sx = 0, ty = 0, c0 = 0, c1 = 0;
+    };
+    Patch patch(Vec2 p, const Slices& s) const;
 
     int m_nx = 0, m_ny = 0;
     std::vector<std::vector<float>> m_params;
