@@ -233,6 +233,7 @@ TEST(MeasuredBsdf, DamagedFilesAreErrors) {
     header[0] = 'T';
     expect_error(header, "not a tensor file");
     EXPECT_THROW(load_measured_brdf(dir.file("missing.bsdf"), loc), InputError);
+    EXPECT_THROW(load_measured_brdf(dir.path(), loc), InputError);  // a folder
 }
 
 // Lightcuts on the measured sphere, every clustered node checked against the exact sum over its

@@ -1,6 +1,7 @@
 #include "materials/tensor_file.h"
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -45,6 +46,9 @@ std::vector<float> TensorField::floats() const {
 }
 
 std::map<std::string, TensorField> read_tensor_file(const std::string& path, const FileLoc& loc) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw_input_error(loc, "cannot open the tensor file \"{}\" (no such file)", path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw_input_error(loc, "cannot open the tensor file \"{}\"", path);
     const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)),
