@@ -166,6 +166,8 @@ TEST(PbrtReference, HairMaterial) { expect_matches_pbrt("mat_hair"); }
 // A measured BRDF (a synthetic RGL .bsdf file, coloured spectra): by path, and by VPLs on it and
 // gather points on it in `manylight`.
 TEST(PbrtReference, MeasuredMaterial) { expect_matches_pbrt("mat_measured"); }
+// An anisotropic file (phi_i over a whole turn) on two squares whose uv run at right angles.
+TEST(PbrtReference, MeasuredMaterialAnisotropic) { expect_matches_pbrt("mat_measured_aniso"); }
 TEST(PbrtReference, MeasuredMaterialByBdlightcuts) {
     expect_matches_pbrt("mat_measured", "bdlightcuts");
 }

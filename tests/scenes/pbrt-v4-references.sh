@@ -15,7 +15,7 @@ names=("$@")
   mat_coatedconductor_depth2 mat_interface media_cloud media_walk media_nanovdb mat_normalmap media_fire
   media_caustic shape_curve shape_curve_alpha shape_curve_motion mat_hair camera_realistic
   camera_realistic_star camera_realistic_image shape_loopsubdiv film_crop light_alpha light_portal light_invisible
-  mat_measured)
+  mat_measured mat_measured_aniso)
 for n in "${names[@]}"; do
   echo "== $n"
   spp=1024
