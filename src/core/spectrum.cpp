@@ -1,5 +1,6 @@
 #include "core/spectrum.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
