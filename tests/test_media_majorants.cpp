@@ -6,11 +6,14 @@
 
 #include <string>
 
+#include "chi2.h"
 #include "majorant_check.h"
 #include "media/medium.h"
 #include "parser_test_helpers.h"
 #include "render_helpers.h"
+#include "sampling/sampler.h"
 #include "scene/scene_desc.h"
+#include "transport/volume_path.h"
 
 using namespace ml;
 using namespace ml::test;
@@ -118,5 +121,62 @@ TEST(MediumMajorants, TrackingThroughTheCellsTransmitsAsTheDensityIntegrates) {
         mean /= double(img.pixels.size());
         EXPECT_NEAR(mean, expected[c], 0.01) << "channel " << c;
         EXPECT_LT(expected[c], 0.95) << "the medium should absorb";
+    }
+}
+
+TEST(MediumMajorants, TheMajorantsCollisionProcessHasTheDensityItsTransmittanceGives) {
+    // Metropolis light transport places medium vertices at the first collision of the majorant's
+    // process and weighs them by its density in closed form: P(t < s) = 1 - Tmaj(s), and the
+    // density sigma_maj(t) Tmaj(t). Along rays through a sparse grid's cells: a chi-square of the
+    // drawn distances (16 bins and "none") against Tmaj's differences, and sigma_maj Tmaj against
+    // Tmaj's derivative.
+    const SceneDesc desc = parse_scene_string(
+        "Rotate 30 1 2 3\nMakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
+        "\"point3 p0\" [ -1 -1 -1 ] \"point3 p1\" [ 1 1 1 ] \"integer nx\" [ 9 ] "
+        "\"integer ny\" [ 9 ] \"integer nz\" [ 9 ] \"float density\" [ " +
+            sparse_values(9 * 9 * 9, 9, false) +
+            "] \"rgb sigma_a\" [ 0.2 0.4 0.8 ] \"rgb sigma_s\" [ 0.5 0.5 0.5 ]\nWorldBegin\n",
+        ".", "test.pbrt");
+    const Medium& m = *desc.media[0];
+    auto sampler = create_sampler("independent", 1, 17);
+    Rng rng(23);
+    const int rays = 12, bins = 16, draws = 20000;
+    for (int r = 0; r < rays; ++r) {
+        const Vec3 o(0.8f * rng.next_float() - 0.4f, 0.8f * rng.next_float() - 0.4f, -2.5f);
+        const Vec3 d =
+            normalize(Vec3(0.3f * rng.next_float() - 0.15f, 0.3f * rng.next_float() - 0.15f, 1));
+        const Ray ray{o, d};
+        const float tmax = 4;
+        std::vector<double> count(bins + 1, 0.0), p(bins + 1, 0.0);
+        sampler->start_pixel_sample(Point2i{r, 0}, 0);
+        for (int i = 0; i < draws; ++i) {
+            const std::optional<float> t = first_majorant_collision(m, ray, tmax, *sampler);
+            count[t ? std::min(bins - 1, int(*t / tmax * bins)) : bins] += 1;
+        }
+        for (int b = 0; b < bins; ++b)
+            p[b] = majorant_transmittance(m, ray, tmax * float(b) / bins) -
+                   majorant_transmittance(m, ray, tmax * float(b + 1) / bins);
+        p[bins] = majorant_transmittance(m, ray, tmax);
+        double stat = 0;
+        int dof = -1;
+        for (int b = 0; b <= bins; ++b) {
+            if (p[b] * draws < 5) continue;
+            stat += (count[b] - p[b] * draws) * (count[b] - p[b] * draws) / (p[b] * draws);
+            ++dof;
+        }
+        EXPECT_GT(chi2::chi2_survival(stat, dof), chi2::sidak_alpha(0.01, rays))
+            << "ray " << r << ": chi-square " << stat << " over " << dof << " dof";
+        EXPECT_LT(p[bins], 0.9) << "the ray should cross the medium";
+        // The density: sigma_maj(t) Tmaj(t) = -dTmaj/dt inside a cell.
+        for (float t = 0.05f; t < tmax; t += 0.1f) {
+            const float h = 1e-3f;
+            if (majorant_at(m, ray, t - h, tmax) != majorant_at(m, ray, t + h, tmax)) continue;
+            const double derivative = (double(majorant_transmittance(m, ray, t - h)) -
+                                       majorant_transmittance(m, ray, t + h)) /
+                                      (2 * h);
+            EXPECT_NEAR(majorant_at(m, ray, t, tmax) * majorant_transmittance(m, ray, t),
+                        derivative, 2e-3 + 1e-2 * derivative)
+                << "ray " << r << " at t " << t;
+        }
     }
 }

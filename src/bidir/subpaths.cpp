@@ -18,12 +18,14 @@ namespace {
 // the distance's (the throughput carries it; every strategy's weight uses the same densities,
 // so the weights still sum to one).
 //
+// `sampling`: how distances in media are drawn (subpaths.h).
+//
 // `medium_emission` (camera subpaths only; null: not wanted): max_vertices entries, entry n the
 // light the media emit along the stretch after the walk's n-th vertex (n = 0: from the start),
 // times the throughput, as `path` adds it.
 int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& scratch, RGB beta,
                 float pdf_fwd, int max_vertices, TransportMode mode, PathVertex* path,
-                const Medium* medium = nullptr, RGB* medium_emission = nullptr) {
+                const Medium* medium, RGB* medium_emission, DistanceSampling sampling) {
     if (max_vertices <= 0) return 0;
     if (medium_emission) std::fill(medium_emission, medium_emission + max_vertices, RGB());
     int n = 0;
@@ -36,10 +38,16 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
         const bool hit = ctx.scene.intersect(ray, &vertex.si);
         if (medium) {
             const UnitRay u = unit_ray(ray, hit ? vertex.si.t : kInfinity);
-            const MediumCollision ev =
-                track_medium(*medium, u.ray, u.tmax, sampler, &beta,
-                             medium_emission ? &medium_emission[n] : &unused_emission,
-                             medium_emission != nullptr);
+            MediumCollision ev;
+            if (sampling == DistanceSampling::Majorant) {
+                if (const std::optional<float> t =
+                        first_majorant_collision(*medium, u.ray, u.tmax, sampler))
+                    ev = MediumCollision{MediumEvent::Scatter, *t};
+            } else {
+                ev = track_medium(*medium, u.ray, u.tmax, sampler, &beta,
+                                  medium_emission ? &medium_emission[n] : &unused_emission,
+                                  medium_emission != nullptr);
+            }
             if (ev.event == MediumEvent::Absorb) break;
             if (ev.event == MediumEvent::Scatter) {
                 const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
@@ -106,7 +114,7 @@ int random_walk(const BdptScene& ctx, Ray ray, Sampler& sampler, ScratchBuffer& 
 
 int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampler,
                             ScratchBuffer& scratch, int max_vertices, PathVertex* path,
-                            RGB* medium_emission) {
+                            RGB* medium_emission, DistanceSampling sampling) {
     if (max_vertices <= 0) return 0;
     // A pinhole is a point (no normal); a thin lens is a surface facing forwards, but the
     // camera vertex is never the far end of a density conversion, so the normal is moot.
@@ -117,17 +125,19 @@ int generate_camera_subpath(const BdptScene& ctx, const Ray& ray, Sampler& sampl
     if (medium_emission) medium_emission[max_vertices - 1] = RGB();
     return 1 + random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices - 1,
                            TransportMode::Radiance, path + 1, ctx.scene.camera_medium(),
-                           medium_emission);
+                           medium_emission, sampling);
 }
 
 int continue_subpath(const BdptScene& ctx, const Ray& ray, float pdf_dir, Sampler& sampler,
-                     ScratchBuffer& scratch, int max_vertices, TransportMode mode,
-                     PathVertex* path) {
-    return random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices, mode, path);
+                     ScratchBuffer& scratch, int max_vertices, TransportMode mode, PathVertex* path,
+                     const Medium* medium, DistanceSampling sampling) {
+    return random_walk(ctx, ray, sampler, scratch, RGB(1.f), pdf_dir, max_vertices, mode, path,
+                       medium, nullptr, sampling);
 }
 
 int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer& scratch,
-                           int max_vertices, float time, PathVertex* path) {
+                           int max_vertices, float time, PathVertex* path,
+                           DistanceSampling sampling) {
     if (max_vertices <= 0) return 0;
     float u_select = sampler.get_1d();
     Vec2 u_pos = sampler.get_2d();
@@ -151,7 +161,7 @@ int generate_light_subpath(const BdptScene& ctx, Sampler& sampler, ScratchBuffer
     if (path[0].on_surface()) ray.o = path[0].si.offset_origin(ray.d);
     int n = random_walk(ctx, ray, sampler, scratch, beta, les->pdf_dir, max_vertices - 1,
                         TransportMode::Importance, path + 1,
-                        sl->light->medium_towards(les->ray.d, les->n_light));
+                        sl->light->medium_towards(les->ray.d, les->n_light), nullptr, sampling);
 
     // Infinite lights: the first hit's density is the disk's (planar, times its cosine), and
     // the light vertex's is the direction's.

@@ -313,18 +313,19 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
     auto integrator = info->create(settings);
     settings.check_unused();
     validate(opt.bias_check);
-    // Participating media: so far `path`, `lighttracer`, `bdpt` and `pssmlt` (over BDPT's or
-    // path's paths), and the many-light integrators that gather with manylight/gather.h (VPLs
-    // and gather points in media) carry light through them.
+    // Participating media: every integrator but `whitted`, `direct` and `cmlt` (whose packets
+    // of lens perturbations trace no media) carries light through them.
     if (has_media(desc)) {
         static const std::set<std::string> kMedia = {
-            "path",        "lighttracer",         "bdpt",        "pssmlt", "vpl", "lightcuts",
-            "mdlightcuts", "stochasticlightcuts", "bdlightcuts", "igi"};
+            "path",        "lighttracer", "bdpt",
+            "pssmlt",      "mlt",         "vpl",
+            "lightcuts",   "mdlightcuts", "stochasticlightcuts",
+            "bdlightcuts", "igi"};
         if (!kMedia.count(name))
             throw UsageError(fmt::format(
-                "integrator \"{}\" does not render participating media yet (the scene has "
+                "integrator \"{}\" does not render participating media (the scene has "
                 "MakeNamedMedium/MediumInterface); render it with --integrator path, bdpt, "
-                "lighttracer, pssmlt, vpl, lightcuts, mdlightcuts, stochasticlightcuts, "
+                "lighttracer, pssmlt, mlt, vpl, lightcuts, mdlightcuts, stochasticlightcuts, "
                 "bdlightcuts or igi",
                 name));
         // Light emitted by a medium reaches the film only by eye paths (no light path starts
@@ -340,7 +341,8 @@ RenderPlan make_plan(const SceneDesc& desc, const RenderOptions& opt) {
                 if (m->emits())
                     throw UsageError(fmt::format(
                         "integrator \"{}\" does not carry light emitted by a medium (no light "
-                        "path starts in one); render it with --integrator path, bdpt, pssmlt or "
+                        "path starts in one, and Veach's paths end on lights); render it with "
+                        "--integrator path, bdpt, pssmlt or "
                         "one of the many-light integrators",
                         name));
     }

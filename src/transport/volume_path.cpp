@@ -46,8 +46,8 @@ bool for_each_collision(const Medium& m, const Ray& ray, float tmax, Sampler& sa
     return false;
 }
 
-// The transmittance of `m` along the unit `ray` up to tmax: closed form where it is
-// homogeneous, else ratio tracking (with Russian roulette once it is small).
+}  // namespace
+
 RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& sampler) {
     if (m.homogeneous()) {
         const std::optional<MajorantSegment> seg = m.majorant(ray, tmax);
@@ -70,6 +70,36 @@ RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& s
     if (stopped) return RGB();
     return tr;
 }
+
+std::optional<float> first_majorant_collision(const Medium& m, const Ray& ray, float tmax,
+                                              Sampler& sampler) {
+    std::optional<float> hit;
+    for_each_collision(m, ray, tmax, sampler, [&](float t, float) {
+        hit = t;
+        return false;
+    });
+    return hit;
+}
+
+float majorant_transmittance(const Medium& m, const Ray& ray, float tmax) {
+    MajorantIterator segments = m.majorants(ray, tmax);
+    double tau = 0;
+    while (const std::optional<MajorantSegment> seg = segments.next())
+        if (seg->sigma_maj > 0) tau += double(seg->sigma_maj) * double(seg->t1 - seg->t0);
+    return float(std::exp(-tau));
+}
+
+float majorant_at(const Medium& m, const Ray& ray, float t, float tmax) {
+    MajorantIterator segments = m.majorants(ray, tmax);
+    float last = 0;
+    while (const std::optional<MajorantSegment> seg = segments.next()) {
+        if (seg->t0 <= t && t <= seg->t1) return seg->sigma_maj;
+        last = seg->sigma_maj;
+    }
+    return t >= tmax ? last : 0.f;
+}
+
+namespace {
 
 // One light sample towards a scattering point `ctx.p` (moved by `offset` off its surface; zero
 // in a medium), weighed by MIS against the point's own direction sampling: f_pdf(wi) gives the

@@ -111,6 +111,24 @@ struct MediumCollision {
 MediumCollision track_medium(const Medium& m, const Ray& ray, float tmax, Sampler& sampler,
                              RGB* beta, RGB* L, bool emission);
 
+// The transmittance of `m` along the unit `ray` up to tmax: closed form where it is
+// homogeneous, else ratio tracking (with Russian roulette once it is small): never negative,
+// unbiased.
+RGB medium_transmittance(const Medium& m, const Ray& ray, float tmax, Sampler& sampler);
+
+// The majorant's own collision process along the unit `ray` up to tmax, for estimators that need
+// a distance's density in closed form (Metropolis light transport in path space): the first
+// collision, with density sigma_maj(t) exp(-int_0^t sigma_maj) over length, null collisions not
+// told apart from real ones (the caller weighs the point by its coefficients); nullopt, with
+// probability majorant_transmittance, where there is none.
+std::optional<float> first_majorant_collision(const Medium& m, const Ray& ray, float tmax,
+                                              Sampler& sampler);
+// exp(-int_0^tmax sigma_maj) along the unit ray.
+float majorant_transmittance(const Medium& m, const Ray& ray, float tmax);
+// sigma_maj at distance t of the unit ray (t <= tmax; at a boundary between segments, the
+// nearer one's); 0 where the ray is outside the medium.
+float majorant_at(const Medium& m, const Ray& ray, float t, float tmax);
+
 // The medium a ray leaving surface point `si` along w is in, `current` being the one the path
 // arrived in: the inside or outside of a medium boundary, else unchanged.
 const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Medium* current);

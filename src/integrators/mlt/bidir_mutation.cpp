@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "bidir/subpaths.h"
+#include "integrators/mlt/path_media.h"
 #include "lights/light_sampler.h"
 #include "sampling/warps.h"
 #include "transport/direct_lighting.h"
@@ -19,25 +20,38 @@ float importance_of(const RGB& c) {
     return std::isfinite(y) && y > 0 ? y : 0.f;
 }
 
+// How MLT's walks place vertices in media (path_media.h).
+DistanceSampling distance_sampling(const BdptScene& ctx) {
+    return ctx.scene.has_media() ? DistanceSampling::Majorant : DistanceSampling::Tracking;
+}
+
 // Veach's unnormalised p_d over the deleted edges.
 double deletion_weight(int k_d) { return k_d == 2 ? 0.5 : std::ldexp(1.0, -k_d); }
 
-// Extends the kept surface vertex path[-1], whose neighbour on its own side is `from`, by `count`
-// vertices written from path[0]: its BSDF samples the first direction (its delta flag records
-// the lobe), BDPT's random walk the rest. False unless every vertex was made.
+// Extends the kept surface or medium vertex path[-1], whose neighbour on its own side is `from`,
+// by `count` vertices written from path[0]: its BSDF or phase function samples the first
+// direction (the delta flag records a surface's lobe), BDPT's random walk the rest. False unless
+// every vertex was made.
 bool extend_from_surface(const BdptScene& ctx, PathVertex* path, const PathVertex& from, int count,
                          TransportMode mode, Sampler& sampler, ScratchBuffer& scratch) {
     float uc = sampler.get_1d();
     Vec2 u = sampler.get_2d();
     PathVertex& v = path[-1];
+    if (v.kind == VertexKind::Medium) {
+        v.si.wo = dir(v, from);
+        const Vec3 wi = sample_hg_phase(v.si.wo, v.medium->g(), u);
+        return continue_subpath(ctx, Ray{v.p(), wi, kInfinity, v.si.time},
+                                hg_phase(v.si.wo, wi, v.medium->g()), sampler, scratch, count, mode,
+                                path, v.medium, DistanceSampling::Majorant) == count;
+    }
     if (v.kind != VertexKind::Surface || !v.bsdf) return false;
     v.si.wo = dir(v, from);
     auto bs = v.bsdf.sample(v.si.wo, uc, u, mode);
     if (!bs || bs->pdf_solid_angle == 0 || bs->f.is_black()) return false;
     v.delta = bs->is_specular();
     float pdf = v.delta ? 0.f : bs->pdf_solid_angle;
-    return continue_subpath(ctx, spawn_ray(v.si, bs->wi), pdf, sampler, scratch, count, mode,
-                            path) == count;
+    return continue_subpath(ctx, spawn_ray(v.si, bs->wi), pdf, sampler, scratch, count, mode, path,
+                            v.medium_towards(ctx, bs->wi), distance_sampling(ctx)) == count;
 }
 
 // Extends the kept light vertex path[-1] by `count` vertices from path[0], its direction drawn as
@@ -58,7 +72,8 @@ bool extend_from_light(const BdptScene& ctx, PathVertex* path, int count, Sample
     if (!(pdf_dir > 0)) return false;
     Ray ray{l.on_surface() ? l.si.offset_origin(d) : l.p(), d, kInfinity, l.si.time};
     return continue_subpath(ctx, ray, pdf_dir, sampler, scratch, count, TransportMode::Importance,
-                            path) == count;
+                            path, l.light->medium_towards(d, l.ng()),
+                            distance_sampling(ctx)) == count;
 }
 
 }  // namespace
@@ -75,6 +90,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
                                                      BidirChoice* choice) {
     const int n = int(x.v.size());
     const PerspectiveCamera& cam = ctx.camera;
+    const bool media = ctx.scene.has_media();
 
     // 1. The deletion: k_d edges, x_{a+1} .. x_{b-1} with b = a + k_d, a in [-1, n - k_d].
     float u_length = sampler.get_1d(), u_position = sampler.get_1d(), u_split = sampler.get_1d();
@@ -117,7 +133,8 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
         CameraSample cs{Vec2(film.x * float(cam.width()), film.y * float(cam.height())), x.u_lens,
                         x.u_time};
         if (a < 0) cs.p_lens = sampler.get_2d();
-        if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, ev.data()) != t)
+        if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, ev.data(),
+                                    nullptr, distance_sampling(ctx)) != t)
             return std::nullopt;
         y.p_raster = cs.p_film;
         y.u_lens = cs.p_lens;
@@ -133,8 +150,8 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     const int kept_l = n - b;
     for (int k = b; k < n; ++k) lv[size_t(n - 1 - k)] = x.v[size_t(k)];
     if (l_l > 0 && kept_l == 0 && s >= 2) {
-        if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(x.u_time),
-                                   lv.data()) != s)
+        if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(x.u_time), lv.data(),
+                                   distance_sampling(ctx)) != s)
             return std::nullopt;
     } else if (l_l > 0 && kept_l == 1) {
         if (!extend_from_light(ctx, &lv[1], l_l, sampler, scratch)) return std::nullopt;
@@ -155,7 +172,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
         e.bsdf = Bsdf();
     } else if (t == 1) {
         PathVertex& q = lv[size_t(s - 1)];
-        if (q.kind != VertexKind::Surface || !q.is_connectible()) return std::nullopt;
+        if (q.kind == VertexKind::Light || !q.is_connectible()) return std::nullopt;
         if (a < 0) {
             auto cs = cam.sample_wi(q.p(), sampler.get_2d(), q.si.time);
             if (!cs) return std::nullopt;
@@ -171,17 +188,18 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
                                   &y.p_raster) == 0) {
             return std::nullopt;
         }
-        if (!mutually_visible(ctx.scene, q, ev[0])) return std::nullopt;
+        if (!media && !mutually_visible(ctx.scene, q, ev[0])) return std::nullopt;
     } else {
         PathVertex& p = ev[size_t(t - 1)];
-        if (p.kind != VertexKind::Surface || !p.is_connectible()) return std::nullopt;
+        if (p.kind == VertexKind::Camera || !p.is_connectible()) return std::nullopt;
         if (s == 1 && kept_l == 0) {
             auto light_point = sample_light_point_by_area(ctx, sampler);
             if (!light_point) return std::nullopt;
             lv[0] = *light_point;
         }
         PathVertex& q = lv[size_t(s - 1)];
-        if (!q.is_connectible() || !mutually_visible(ctx.scene, p, q)) return std::nullopt;
+        if (!q.is_connectible() || (!media && !mutually_visible(ctx.scene, p, q)))
+            return std::nullopt;
     }
 
     // 6. The new path, lens first; the connection's ends were not sampled through a lobe.
@@ -191,6 +209,8 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     if (s > 0) y.v[size_t(t - 1)].delta = y.v[size_t(t)].delta = false;
     if (!mlt_supported(y)) return std::nullopt;
     rebind_bsdfs(y, scratch);
+    // In media: every edge traced through interfaces, the new ones' transmittances estimated.
+    if (!trace_media_edges(ctx, y, &x, sampler)) return std::nullopt;
 
     // 7. f / sum p_s over the window of this deletion's strategies, for y and x: its ratio is
     //    f(y) T(y -> x) / (f(x) T(x -> y)). Proposals by splits outside y's counted run are

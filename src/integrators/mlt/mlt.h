@@ -36,8 +36,11 @@
 // bidirectional (partial | whole; partial), whole_prob (0.5: with partial, the share of
 // bidirectional mutations that replace the whole path). `--stats` reports each mutation's
 // acceptance rate.
-// Lights: area, point and spot (environment and distant lights are refused). Pixel filter: box
-// (splats).
+// Lights: area, point and spot (environment and distant lights are refused). Participating media
+// (mlt, not cmlt): medium vertices placed by the majorant's collision process, the edges'
+// transmittances in f (path_media.h); emitting media are refused. Splats are spread by the pixel
+// filter, so that a filter wider than a pixel loses the part of the splats near the border that
+// falls off the film (about 1% of a 48x36 image with the default Gaussian; none with "box").
 #pragma once
 
 #include "render/integrator.h"

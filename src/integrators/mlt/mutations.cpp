@@ -4,9 +4,11 @@
 
 #include "bidir/connect.h"
 #include "bidir/subpaths.h"
+#include "integrators/mlt/path_media.h"
 #include "materials/material.h"
 #include "sampling/warps.h"
 #include "transport/direct_lighting.h"
+#include "transport/volume_path.h"
 
 namespace ml {
 
@@ -14,11 +16,20 @@ namespace {
 
 Vec3 dir(const PathVertex& from, const PathVertex& to) { return normalize(to.p() - from.p()); }
 
-// A surface vertex at the hit of `ray`, with its BSDF.
-std::optional<PathVertex> surface_hit(const BdptScene& ctx, const Ray& ray,
-                                      ScratchBuffer& scratch) {
+// A surface vertex at the hit of `ray`, with its BSDF. In a scene with media, the ray passes
+// through interfaces; `medium` is the one it starts in, and becomes the one it arrived in (the
+// vertex's).
+std::optional<PathVertex> surface_hit(const BdptScene& ctx, Ray ray, ScratchBuffer& scratch,
+                                      const Medium*& medium) {
     PathVertex v;
-    if (!ctx.scene.intersect(ray, &v.si)) return std::nullopt;
+    for (int crossing = 0;; ++crossing) {
+        if (!ctx.scene.intersect(ray, &v.si)) return std::nullopt;
+        if (!ctx.scene.has_media() || !is_interface(v.si)) break;
+        if (crossing >= 256) return std::nullopt;
+        medium = medium_after(v.si, ray.d, medium);
+        ray = Ray{v.si.offset_origin(ray.d), ray.d, kInfinity, ray.time};
+    }
+    v.medium = medium;
     v.kind = VertexKind::Surface;
     v.ns_hit = v.si.ns;
     v.bsdf = hit_bsdf(v.si, scratch);
@@ -64,6 +75,7 @@ bool mlt_supported(const MltPath& x) {
     if (t != LightType::Area && t != LightType::DeltaPosition) return false;
     for (size_t k = 1; k + 1 < x.v.size(); ++k) {
         const PathVertex& v = x.v[k];
+        if (v.kind == VertexKind::Medium && v.medium) continue;
         if (v.kind != VertexKind::Surface || !v.bsdf) return false;
         if (v.delta && !v.bsdf.is_specular_only()) return false;
     }
@@ -99,13 +111,33 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
     float u_time = sampler.get_1d();
     CameraSample cs{Vec2(u.x * float(cam.width()), u.y * float(cam.height())), u_lens, u_time};
     std::vector<PathVertex> cv(static_cast<size_t>(t)), lv(static_cast<size_t>(std::max(s, 1)));
-    if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, cv.data()) != t)
+    const bool media = ctx.scene.has_media();
+    const DistanceSampling sampling =
+        media ? DistanceSampling::Majorant : DistanceSampling::Tracking;
+    if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, cv.data(), nullptr,
+                                sampling) != t)
         return std::nullopt;
-    if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(u_time), lv.data()) != s)
+    if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(u_time), lv.data(),
+                               sampling) != s)
         return std::nullopt;
     PathVertex sampled;
     Connection c;
-    if (s == 1) {
+    if (media && s >= 2) {
+        // The connection's ends only: trace_media_edges traces it (through interfaces) and f / q
+        // weighs it (connect_bdpt's estimate would draw the transmittance again).
+        const PathVertex& q = lv[size_t(s - 1)];
+        if (!q.is_connectible()) return std::nullopt;
+        if (t == 1) {
+            auto ws = cam.sample_wi(q.p(), sampler.get_2d(), q.si.time);
+            if (!ws) return std::nullopt;
+            sampled = PathVertex::camera(ws->p_lens, ws->n_lens, RGB(1.f));
+            sampled.si.time = q.si.time;
+            c.splat = true;
+            c.p_raster = ws->p_raster;
+        } else if (!cv[size_t(t - 1)].is_connectible()) {
+            return std::nullopt;
+        }
+    } else if (s == 1) {
         // The light point by area density, the density path_over_bdpt_density counts for s = 1
         // (connect_bdpt's light sample draws by solid angle: with it the bootstrap's mean, and so
         // the image, was 5.5% bright on tests/scenes/light_invisible, where no path meets the
@@ -116,7 +148,7 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
         if (!light_point) return std::nullopt;
         sampled = *light_point;
         sampled.si.time = pt.si.time;
-        if (!mutually_visible(ctx.scene, pt, sampled)) return std::nullopt;
+        if (!media && !mutually_visible(ctx.scene, pt, sampled)) return std::nullopt;
     } else {
         c = connect_bdpt(ctx, lv.data(), cv.data(), s, t, sampler, &sampled);
         if (c.L.is_black()) return std::nullopt;
@@ -150,7 +182,7 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
         e.si.ns = e.si.ng;
         e.bsdf = Bsdf();
     }
-    if (!mlt_supported(x)) return std::nullopt;
+    if (!mlt_supported(x) || !trace_media_edges(ctx, x, nullptr, sampler)) return std::nullopt;
     return x;
 }
 
@@ -175,7 +207,9 @@ int lens_vertex(const MltPath& x) {
     const int n = int(x.v.size());
     int j = 1;
     while (j < n - 1 && is_specular_vertex(x, j)) ++j;
-    if (j >= n - 1 || !x.v[size_t(j)].is_connectible()) return -1;
+    if (j >= n - 1 || x.v[size_t(j)].kind != VertexKind::Surface ||
+        !x.v[size_t(j)].is_connectible())
+        return -1;
     if (j + 1 < n - 1 && is_specular_vertex(x, j + 1)) return -1;
     return j;
 }
@@ -201,6 +235,7 @@ std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, in
     MltPath y = x;
     y.p_raster = p;
     Ray ray = cam.generate_ray({p, x.u_lens, x.u_time});
+    const Medium* medium = ctx.scene.camera_medium();
     for (int k = 1; k <= j; ++k) {
         std::optional<PathVertex> v;
         if (k == 1 && first_hit) {
@@ -211,7 +246,7 @@ std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, in
             h.bsdf = hit_bsdf(h.si, scratch);
             if (h.bsdf) v = h;
         } else if (k > 1 || !first_hit) {
-            v = surface_hit(ctx, ray, scratch);
+            v = surface_hit(ctx, ray, scratch, medium);
         }
         if (!v) return std::nullopt;
         bool specular = v->bsdf.is_specular_only();
@@ -221,9 +256,11 @@ std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, in
         auto wi = specular_direction(*v, -ray.d, transmits(x, k));
         if (!wi) return std::nullopt;
         ray = spawn_ray(v->si, *wi);
+        medium = medium_after(v->si, *wi, medium);
     }
     if (!y.v[size_t(j)].is_connectible() ||
-        !mutually_visible(ctx.scene, y.v[size_t(j)], y.v[size_t(j + 1)]))
+        (!ctx.scene.has_media() &&
+         !mutually_visible(ctx.scene, y.v[size_t(j)], y.v[size_t(j + 1)])))
         return std::nullopt;
     rebind_bsdfs(y, scratch);
     return y;
@@ -238,7 +275,7 @@ std::optional<Proposal> mutate_lens(const BdptScene& ctx, const MltPath& x, Samp
     if (j < 0) return std::nullopt;
     Vec2 p = x.p_raster + lens_offset(ctx.camera, u_size, u_angle);
     auto y = lens_candidate(ctx, x, j, p, nullptr, scratch);
-    if (!y) return std::nullopt;
+    if (!y || !trace_media_edges(ctx, *y, &x, sampler)) return std::nullopt;
     RGB ty = lens_target(ctx, *y, j);
     if (importance_of(ty) == 0) return std::nullopt;
     return make_proposal(std::move(*y), ty, lens_target(ctx, x, j));
@@ -249,7 +286,9 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
     float u_size = sampler.get_1d(), u_angle = sampler.get_1d();
     // The form E D S+ (D|L): m is the first vertex after 1 that is not specular.
     const int n = int(x.v.size());
-    if (n < 4 || is_specular_vertex(x, 1) || !x.v[1].is_connectible()) return std::nullopt;
+    if (n < 4 || x.v[1].kind != VertexKind::Surface || is_specular_vertex(x, 1) ||
+        !x.v[1].is_connectible())
+        return std::nullopt;
     int m = 2;
     while (m < n - 1 && is_specular_vertex(x, m)) ++m;
     if (m < 3) return std::nullopt;
@@ -265,8 +304,9 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
 
     // Back through the specular chain to a new vertex 1, seen from the same lens point.
     MltPath y = x;
+    const Medium* medium = vm.medium_towards(ctx, w2);
     for (int k = m - 1; k >= 1; --k) {
-        auto v = surface_hit(ctx, ray, scratch);
+        auto v = surface_hit(ctx, ray, scratch, medium);
         if (!v) return std::nullopt;
         bool specular = v->bsdf.is_specular_only();
         if (specular != (k >= 2)) return std::nullopt;
@@ -275,6 +315,7 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
         auto wi = specular_direction(*v, -ray.d, transmits(x, k));
         if (!wi) return std::nullopt;
         ray = spawn_ray(v->si, *wi);
+        medium = medium_after(v->si, *wi, medium);
     }
     const PathVertex &e = y.v[0], &d1 = y.v[1];
     if (!d1.is_connectible()) return std::nullopt;
@@ -282,9 +323,10 @@ std::optional<Proposal> mutate_caustic(const BdptScene& ctx, const MltPath& x, S
     if (ctx.camera.importance(Ray{e.p(), normalize(d1.p() - e.p()), kInfinity, e.si.time},
                               &raster) == 0)
         return std::nullopt;
-    if (!mutually_visible(ctx.scene, d1, e)) return std::nullopt;
+    if (!ctx.scene.has_media() && !mutually_visible(ctx.scene, d1, e)) return std::nullopt;
     y.p_raster = raster;
     rebind_bsdfs(y, scratch);
+    if (!trace_media_edges(ctx, y, &x, sampler)) return std::nullopt;
     RGB ty = caustic_target(ctx, y, m);
     if (importance_of(ty) == 0) return std::nullopt;
     return make_proposal(std::move(y), ty, caustic_target(ctx, x, m));

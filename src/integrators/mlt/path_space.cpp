@@ -1,5 +1,6 @@
 #include "integrators/mlt/path_space.h"
 
+#include "integrators/mlt/path_media.h"
 #include "lights/light_sampler.h"
 #include "sampling/sampler.h"
 
@@ -20,13 +21,20 @@ std::optional<BsdfSample> matching_specular(const PathVertex& v, const Vec3& wo,
     return std::nullopt;
 }
 
-// BSDF value (no cosine) at surface vertex k of the path, light arriving from k + 1 and leaving
+// The BSDF's value (no cosine) at a surface vertex, the phase function's at a medium vertex.
+RGB vertex_value(const PathVertex& v, const Vec3& wo, const Vec3& wi,
+                 TransportMode mode = TransportMode::Radiance) {
+    if (v.kind == VertexKind::Medium) return RGB(hg_phase(wo, wi, v.medium->g()));
+    return v.bsdf ? v.bsdf.eval(wo, wi, mode) : RGB();
+}
+
+// Scattering value (no cosine) at vertex k of the path, light arriving from k + 1 and leaving
 // towards k - 1; the delta-lobe weight f |cos| for specular vertices.
 RGB scattering(const MltPath& x, int k) {
     const PathVertex& v = x.v[size_t(k)];
     Vec3 wo = dir(v, x.v[size_t(k - 1)]), wi = dir(v, x.v[size_t(k + 1)]);
     if (is_specular_vertex(x, k)) return specular_weight(v, wo, wi);
-    return v.bsdf ? v.bsdf.eval(wo, wi) : RGB();
+    return vertex_value(v, wo, wi);
 }
 
 // Radiance (area lights) or intensity (point and spot lights) the path's light sends towards
@@ -41,7 +49,7 @@ RGB emission(const BdptScene& ctx, const PathVertex& light, const PathVertex& to
     return ls->L * distance_squared(to.p(), light.p());
 }
 
-// Cosine at vertex v towards w (1 for points).
+// Cosine at vertex v towards w (1 for points and medium vertices).
 float cosine(const PathVertex& v, const Vec3& w) {
     return v.on_surface() ? abs_dot(v.ns(), w) : 1.f;
 }
@@ -107,6 +115,9 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         rev[size_t(k)] = x.v[size_t(k + 1)].pdf_area(ctx, &x.v[size_t(k + 2)], x.v[size_t(k)]);
     rev[size_t(n - 2)] = lv.pdf_light(ctx, x.v[size_t(n - 2)]);
     rev[size_t(n - 1)] = lv.pdf_light_origin(ctx, x.v[size_t(n - 2)]);
+    // In media, each sampled edge's distance density (path_media.h).
+    for (int k = 1; k < n; ++k) fwd[size_t(k)] *= media_density(x, k - 1, k);
+    for (int k = 0; k + 1 < n; ++k) rev[size_t(k)] *= media_density(x, k, k);
 
     // 2. The strategies that make this path: s light vertices joined to t = n - s camera
     //    vertices where both ends can connect. Strategies on either side of a specular vertex
@@ -151,6 +162,7 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
                        TransportMode mode) {
         // f |cos| / pdf at x_k, sampled from the side `mode` comes from.
         const PathVertex& v = x.v[size_t(k)];
+        if (v.kind == VertexKind::Medium) return RGB(1.f);  // the phase function samples itself
         bool radiance = mode == TransportMode::Radiance;
         Vec3 wo = dir(v, radiance ? toward_eye : toward_light);
         Vec3 wi = dir(v, radiance ? toward_light : toward_eye);
@@ -204,23 +216,33 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         }
         float pmf = ctx.light_sampler.pmf(light);
         if (!(pdf > 0 && pmf > 0)) return RGB();
-        C = camera_beta(n - 2) * pt.bsdf.eval(wo, wi) * (abs_dot(wi, pt.ns()) / (pdf * pmf)) * Le;
+        C = camera_beta(n - 2) * vertex_value(pt, wo, wi) * (cosine(pt, wi) / (pdf * pmf)) * Le;
     } else if (t == 1) {
         const PathVertex &e = x.v[0], &q = x.v[1];
         Vec3 wi = dir(q, e), wo = dir(q, x.v[2]);
         float d2 = distance_squared(e.p(), q.p());
         float We = ctx.camera.importance(Ray{e.p(), -wi, kInfinity, e.si.time});
         float pdf_wi = d2 / (abs_dot(ctx.camera.forward(e.si.time), wi) * ctx.camera.lens_area());
-        C = light_beta(1) * q.bsdf.eval(wo, wi, TransportMode::Importance) *
-            (abs_dot(wi, q.ns()) * We / pdf_wi);
+        C = light_beta(1) * vertex_value(q, wo, wi, TransportMode::Importance) *
+            (cosine(q, wi) * We / pdf_wi);
     } else {
         const PathVertex &q = x.v[size_t(t)], &p = x.v[size_t(t - 1)];
         Vec3 d = q.p() - p.p();
         float d2 = length_squared(d);
         d = d / std::sqrt(d2);
-        float g = abs_dot(p.ns(), d) * abs_dot(q.ns(), d) / d2;
-        C = light_beta(t) * q.bsdf.eval(dir(q, x.v[size_t(t + 1)]), -d, TransportMode::Importance) *
-            p.bsdf.eval(dir(p, x.v[size_t(t - 2)]), d) * camera_beta(t - 1) * g;
+        float g = cosine(p, d) * cosine(q, d) / d2;
+        C = light_beta(t) *
+            vertex_value(q, dir(q, x.v[size_t(t + 1)]), -d, TransportMode::Importance) *
+            vertex_value(p, dir(p, x.v[size_t(t - 2)]), d) * camera_beta(t - 1) * g;
+    }
+    if (!x.edges.empty()) {
+        // The media's colour over the distance densities of the edges this strategy sampled
+        // (all but the connection (t - 1, t)): camera edges towards the light, light edges back.
+        float density = 1;
+        for (int k = 1; k <= t - 1; ++k) density *= media_density(x, k - 1, k);
+        for (int k = t; k <= n - 2; ++k) density *= media_density(x, k, k);
+        if (!(density > 0)) return RGB();
+        C *= media_colour(x) / density;
     }
     if (C.is_black() || !C.is_finite()) return RGB();
     float n_strategies = n == 2 ? 1.f : float(n);
@@ -236,7 +258,7 @@ RGB lens_target(const BdptScene& ctx, const MltPath& x, int j) {
     if (d2 == 0) return RGB();
     d = d / std::sqrt(d2);
     T *= scattering(x, j) * (cosine(a, d) * cosine(b, d) / d2);
-    return T * light_side_colour(ctx, x, j);
+    return T * light_side_colour(ctx, x, j) * media_colour(x);
 }
 
 RGB caustic_target(const BdptScene& ctx, const MltPath& x, int m) {
@@ -257,7 +279,7 @@ RGB caustic_target(const BdptScene& ctx, const MltPath& x, int m) {
     float We = ctx.camera.importance(Ray{e.p(), -to_lens, kInfinity, e.si.time});
     T *= scattering(x, 1) *
          (cosine(d1, to_lens) * We * abs_dot(ctx.camera.forward(e.si.time), to_lens) / d2);
-    return T;
+    return T * media_colour(x);
 }
 
 }  // namespace ml

@@ -18,9 +18,18 @@
 
 namespace ml {
 
+// An edge of a path through participating media (path_media.h): the transmittance (an estimate
+// in grid media, kept with the edge), the majorant's survival over it, and sigma_maj at its ends
+// (a on the camera side).
+struct MediaEdge {
+    RGB tr{1.f};
+    float tmaj = 1;
+    float maj_a = 0, maj_b = 0;
+};
+
 struct MltPath {
     // Camera order: v[0] on the lens, v.back() a light endpoint (area, point or spot light);
-    // surfaces in between.
+    // surfaces and medium scattering points in between.
     std::vector<PathVertex> v;
     Vec2 p_raster;  // where the path lands on the film
     Vec2 u_lens;    // the lens sample of v[0] (for perturbations that keep the lens point)
@@ -29,6 +38,9 @@ struct MltPath {
     // stays at its time, and the bootstrap's choice of chains, in proportion to contribution,
     // spreads the chains over the shutter as the time integral needs.
     float u_time = 0;
+    // In scenes with media: edges[k] joins v[k] and v[k + 1] (trace_media_edges); empty
+    // elsewhere.
+    std::vector<MediaEdge> edges;
     int depth() const { return int(v.size()) - 2; }
 };
 
