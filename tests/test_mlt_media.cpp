@@ -58,3 +58,22 @@ TEST(MltMedia, AgreesWithBdptOnAVolumetricCausticInFog) {
                            test::render_twice(scene, "bdpt", 256, 4, 16), 4,
                            "mlt vs bdpt, volumetric caustic");
 }
+
+TEST(MltMedia, SameImageForAnyThreadCount) {
+    // The transmittance estimates of the grid's edges draw from each chain's own sampler.
+    std::string grid = test::coloured_cloud("uniformgrid");
+    auto render = [&](int threads) {
+        RenderOptions opt;
+        opt.integrator = "mlt";
+        opt.spp = 4;
+        opt.max_depth = 4;
+        opt.width = opt.height = 12;
+        opt.threads = threads;
+        opt.seed = 3;
+        opt.set = small_bootstrap();
+        return test::render_text(grid, opt).image;
+    };
+    const Image a = render(1), b = render(2);
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    for (size_t i = 0; i < a.pixels.size(); ++i) ASSERT_TRUE(a.pixels[i] == b.pixels[i]) << i;
+}
