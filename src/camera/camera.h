@@ -111,6 +111,12 @@ public:
         return Vec2(-m_raster_margin.x + u.x * (float(m_width) + 2 * m_raster_margin.x),
                     -m_raster_margin.y + u.y * (float(m_height) + 2 * m_raster_margin.y));
     }
+    // Whether raster position p lies on the film or its margin.
+    bool in_raster(const Vec2& p) const {
+        return p.x >= -m_raster_margin.x && p.y >= -m_raster_margin.y &&
+               p.x < float(m_width) + m_raster_margin.x &&
+               p.y < float(m_height) + m_raster_margin.y;
+    }
     float raster_area_ratio() const {
         return (float(m_width) + 2 * m_raster_margin.x) *
                (float(m_height) + 2 * m_raster_margin.y) / (float(m_width) * float(m_height));

@@ -40,7 +40,7 @@ const std::vector<IntegratorInfo>& integrator_registry() {
         {"mlt",
          "Metropolis light transport in path space (Veach): bidirectional mutations, lens and "
          "caustic perturbations",
-         [](const Settings& s) { return std::make_unique<MltIntegrator>(s, false); }, true},
+         [](const Settings& s) { return std::make_unique<MltIntegrator>(s, false); }, true, true},
         {"cmlt", "coherent MLT: mlt with multiple-try lens perturbations traced as Embree packets",
          [](const Settings& s) { return std::make_unique<MltIntegrator>(s, true); }, true},
         {"pssmlt",

@@ -130,8 +130,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     for (int k = 0; k <= a; ++k) ev[size_t(k)] = x.v[size_t(k)];
     if (l_e > 0 && a <= 0 && t >= 2) {
         Vec2 film = sampler.get_2d();
-        CameraSample cs{Vec2(film.x * float(cam.width()), film.y * float(cam.height())), x.u_lens,
-                        x.u_time};
+        CameraSample cs{cam.raster_point(film), x.u_lens, x.u_time};
         if (a < 0) cs.p_lens = sampler.get_2d();
         if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, ev.data(),
                                     nullptr, distance_sampling(ctx)) != t)

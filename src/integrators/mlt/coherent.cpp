@@ -65,7 +65,7 @@ void trace_tries(const BdptScene& ctx, const MltPath& from, int j, const Vec2* u
         y.u_lens = from.u_lens;
         y.p_raster = from.p_raster + lens_offset(cam, u[i].x, u[i].y);
         const Vec2& p = y.p_raster;
-        active[i] = p.x >= 0 && p.y >= 0 && p.x < float(cam.width()) && p.y < float(cam.height());
+        active[i] = cam.in_raster(p);
         if (active[i]) rays[i] = cam.generate_ray({p, from.u_lens, from.u_time});
     }
 

@@ -39,8 +39,10 @@
 // Lights: area, point and spot (environment and distant lights are refused). Participating media
 // (mlt, not cmlt): medium vertices placed by the majorant's collision process, the edges'
 // transmittances in f (path_media.h); emitting media are refused. Splats are spread by the pixel
-// filter, so that a filter wider than a pixel loses the part of the splats near the border that
-// falls off the film (about 1% of a 48x36 image with the default Gaussian; none with "box").
+// filter: mlt draws camera rays over the film and the margin a border pixel's filter reaches
+// past its edge (PerspectiveCamera::raster_point), so that the border pixels get what camera
+// samples there give them; cmlt keeps its paths on the film, and its border pixels lose the part
+// of the splats that falls off it (about 1% of a 48x36 image with the default Gaussian).
 #pragma once
 
 #include "render/integrator.h"

@@ -109,7 +109,7 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
     Vec2 u = sampler.get_2d();
     Vec2 u_lens = sampler.get_2d();
     float u_time = sampler.get_1d();
-    CameraSample cs{Vec2(u.x * float(cam.width()), u.y * float(cam.height())), u_lens, u_time};
+    CameraSample cs{cam.raster_point(u), u_lens, u_time};
     std::vector<PathVertex> cv(static_cast<size_t>(t)), lv(static_cast<size_t>(std::max(s, 1)));
     const bool media = ctx.scene.has_media();
     const DistanceSampling sampling =
@@ -229,8 +229,7 @@ namespace {
 std::optional<MltPath> lens_candidate(const BdptScene& ctx, const MltPath& x, int j, const Vec2& p,
                                       const SurfaceInteraction* first_hit, ScratchBuffer& scratch) {
     const PerspectiveCamera& cam = ctx.camera;
-    if (!(p.x >= 0 && p.y >= 0 && p.x < float(cam.width()) && p.y < float(cam.height())))
-        return std::nullopt;
+    if (!cam.in_raster(p)) return std::nullopt;
     // Through the same specular chain to a new vertex j, joined to the old j + 1.
     MltPath y = x;
     y.p_raster = p;

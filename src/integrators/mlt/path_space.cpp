@@ -115,6 +115,11 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         rev[size_t(k)] = x.v[size_t(k + 1)].pdf_area(ctx, &x.v[size_t(k + 2)], x.v[size_t(k)]);
     rev[size_t(n - 2)] = lv.pdf_light(ctx, x.v[size_t(n - 2)]);
     rev[size_t(n - 1)] = lv.pdf_light_origin(ctx, x.v[size_t(n - 2)]);
+    // Camera rays are drawn over the film and its margin (PerspectiveCamera::raster_point), so
+    // that splats reach the border pixels from past the edge as camera samples do: their
+    // direction's density is pdf_we (which counts the film alone) over that area's ratio.
+    const float film_ratio = ctx.camera.raster_area_ratio();
+    fwd[1] /= film_ratio;
     // In media, each sampled edge's distance density (path_media.h).
     for (int k = 1; k < n; ++k) fwd[size_t(k)] *= media_density(x, k - 1, k);
     for (int k = 0; k + 1 < n; ++k) rev[size_t(k)] *= media_density(x, k, k);
@@ -244,6 +249,7 @@ RGB path_over_bdpt_density(const BdptScene& ctx, const MltPath& x, int* s_lo, in
         if (!(density > 0)) return RGB();
         C *= media_colour(x) / density;
     }
+    if (t >= 2) C *= film_ratio;  // the camera ray's We cos / density
     if (C.is_black() || !C.is_finite()) return RGB();
     float n_strategies = n == 2 ? 1.f : float(n);
     return C * float(n_strategies / sum);
