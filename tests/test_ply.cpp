@@ -132,6 +132,14 @@ TEST(Ply, MalformedHeaders) {
                                "property list uchar int vertex_indices\nend_header\n"),
                      "no faces");
     expect_ply_error(dir.write("e.ply", ""), "malformed PLY header");
+    // A count past OpenMesh's unsigned int on an element of no properties (found by fuzzing:
+    // the body's check passed it, and OpenMesh's header loop never ended).
+    expect_ply_error(dir.write("f.ply",
+                               "ply\nformat binary_little_endian 1.0\nelement extra "
+                               "4294967296\nelement vertex 0\nproperty float x\n"
+                               "element face 0\nproperty list uchar int vertex_indices\n"
+                               "end_header\n"),
+                     "is not a number from 0 to 4294967295");
     expect_ply_error(dir.file("missing.ply"), "no such file");
     std::filesystem::create_directories(dir.file("folder.ply"));
     expect_ply_error(dir.file("folder.ply"), "directory");

@@ -141,13 +141,16 @@ PlyHeader parse_header(std::string_view data, const Fail& fail) {
                 fail("unknown PLY format \"{}\"", w[1]);
             have_format = true;
         } else if (w[0] == "element") {
-            // A count past uint64_t is out of range, not 0 (OpenMesh would read it otherwise).
-            uint64_t count = 0;
+            // OpenMesh reads the count into an unsigned int: a larger one fails its stream, and
+            // its header loop never ends (an element of no properties passes the body's check).
+            uint32_t count = 0;
             if (w.size() != 3) fail("malformed PLY header line {}", line_no);
             auto [end, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), count);
             if (ec != std::errc() || end != w[2].data() + w[2].size())
-                fail("malformed PLY header line {}: the count \"{}\" is not a number that fits",
-                     line_no, w[2]);
+                fail(
+                    "malformed PLY header line {}: the count \"{}\" is not a number from 0 to "
+                    "4294967295",
+                    line_no, w[2]);
             h.elements.push_back(PlyElement{std::string(w[1]), count, {}});
         } else if (w[0] == "property") {
             if (h.elements.empty())
