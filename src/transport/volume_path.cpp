@@ -225,24 +225,12 @@ bool is_interface(const SurfaceInteraction& si) {
 RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset, const Vec3& to,
                   const Vec3& to_offset, const Medium* medium, float time, Sampler& sampler) {
     RGB tr(1.f);
-    Vec3 o = from, o_offset = from_offset;
-    // Each interface crossed starts a new segment; a scene of nested boundaries crosses a few.
-    for (int crossing = 0; crossing < 256; ++crossing) {
-        const Ray seg = segment_ray(o, o_offset, to, to_offset, time);
-        SurfaceInteraction hit;
-        const bool blocked = scene.intersect(seg, &hit);
-        if (blocked && !is_interface(hit)) return RGB();
-        if (medium) {
-            const UnitRay u = unit_ray(seg, blocked ? hit.t : seg.tmax);
-            tr *= medium_transmittance(*medium, u.ray, u.tmax, sampler);
-            if (tr.is_black()) return RGB();
-        }
-        if (!blocked) return tr;
-        medium = medium_after(hit, seg.d, medium);
-        o = hit.p;
-        o_offset = hit.offset();
-    }
-    return RGB();
+    const bool reached = walk_segment(scene, from, from_offset, to, to_offset, medium, time,
+                                      [&](const Medium& m, const UnitRay& u, bool, bool) {
+                                          tr *= medium_transmittance(m, u.ray, u.tmax, sampler);
+                                          return !tr.is_black();
+                                      });
+    return reached ? tr : RGB();
 }
 
 RGB transmittance_to_surface(const Scene& scene, Ray ray, const Medium* medium, Sampler& sampler,

@@ -137,8 +137,33 @@ const Medium* medium_after(const SurfaceInteraction& si, const Vec3& w, const Me
 // pass through it unchanged.
 bool is_interface(const SurfaceInteraction& si);
 
-// The transmittance from `from` (moved by from_offset off its surface; zero in a medium) to `to`
-// (moved by to_offset), starting in `medium`: through interface surfaces, zero at any other.
+// The segment from `from` (moved by from_offset off its surface; zero in a medium) to `to` (moved
+// by to_offset), starting in `medium`, walked through interface surfaces: stretch(m, u, first,
+// last) for each stretch inside a medium m, along the unit ray u.ray up to u.tmax (first: it
+// starts at `from`; last: it ends at `to`), which returns false to stop the walk. True when the
+// walk reached `to`; false where another surface blocks it or a stretch stopped it.
+template <class Stretch>
+bool walk_segment(const Scene& scene, Vec3 from, Vec3 from_offset, const Vec3& to,
+                  const Vec3& to_offset, const Medium* medium, float time, const Stretch& stretch) {
+    // Each interface crossed starts a new stretch; a scene of nested boundaries crosses a few.
+    for (int crossing = 0; crossing < 256; ++crossing) {
+        const Ray seg = segment_ray(from, from_offset, to, to_offset, time);
+        SurfaceInteraction hit;
+        const bool blocked = scene.intersect(seg, &hit);
+        if (blocked && !is_interface(hit)) return false;
+        if (medium &&
+            !stretch(*medium, unit_ray(seg, blocked ? hit.t : seg.tmax), crossing == 0, !blocked))
+            return false;
+        if (!blocked) return true;
+        medium = medium_after(hit, seg.d, medium);
+        from = hit.p;
+        from_offset = hit.offset();
+    }
+    return false;
+}
+
+// The transmittance from `from` to `to` through interface surfaces (walk_segment), zero at any
+// other surface.
 RGB transmittance(const Scene& scene, const Vec3& from, const Vec3& from_offset, const Vec3& to,
                   const Vec3& to_offset, const Medium* medium, float time, Sampler& sampler);
 

@@ -20,11 +20,6 @@ float importance_of(const RGB& c) {
     return std::isfinite(y) && y > 0 ? y : 0.f;
 }
 
-// How MLT's walks place vertices in media (path_media.h).
-DistanceSampling distance_sampling(const BdptScene& ctx) {
-    return ctx.scene.has_media() ? DistanceSampling::Majorant : DistanceSampling::Tracking;
-}
-
 // Veach's unnormalised p_d over the deleted edges.
 double deletion_weight(int k_d) { return k_d == 2 ? 0.5 : std::ldexp(1.0, -k_d); }
 
@@ -51,7 +46,7 @@ bool extend_from_surface(const BdptScene& ctx, PathVertex* path, const PathVerte
     v.delta = bs->is_specular();
     float pdf = v.delta ? 0.f : bs->pdf_solid_angle;
     return continue_subpath(ctx, spawn_ray(v.si, bs->wi), pdf, sampler, scratch, count, mode, path,
-                            v.medium_towards(ctx, bs->wi), distance_sampling(ctx)) == count;
+                            v.medium_towards(ctx, bs->wi), mlt_distance_sampling(ctx)) == count;
 }
 
 // Extends the kept light vertex path[-1] by `count` vertices from path[0], its direction drawn as
@@ -73,7 +68,7 @@ bool extend_from_light(const BdptScene& ctx, PathVertex* path, int count, Sample
     Ray ray{l.on_surface() ? l.si.offset_origin(d) : l.p(), d, kInfinity, l.si.time};
     return continue_subpath(ctx, ray, pdf_dir, sampler, scratch, count, TransportMode::Importance,
                             path, l.light->medium_towards(d, l.ng()),
-                            distance_sampling(ctx)) == count;
+                            mlt_distance_sampling(ctx)) == count;
 }
 
 }  // namespace
@@ -133,7 +128,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
         CameraSample cs{cam.raster_point(film), x.u_lens, x.u_time};
         if (a < 0) cs.p_lens = sampler.get_2d();
         if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, ev.data(),
-                                    nullptr, distance_sampling(ctx)) != t)
+                                    nullptr, mlt_distance_sampling(ctx)) != t)
             return std::nullopt;
         y.p_raster = cs.p_film;
         y.u_lens = cs.p_lens;
@@ -150,7 +145,7 @@ std::optional<Proposal> mutate_bidirectional_partial(const BdptScene& ctx, const
     for (int k = b; k < n; ++k) lv[size_t(n - 1 - k)] = x.v[size_t(k)];
     if (l_l > 0 && kept_l == 0 && s >= 2) {
         if (generate_light_subpath(ctx, sampler, scratch, s, cam.sample_time(x.u_time), lv.data(),
-                                   distance_sampling(ctx)) != s)
+                                   mlt_distance_sampling(ctx)) != s)
             return std::nullopt;
     } else if (l_l > 0 && kept_l == 1) {
         if (!extend_from_light(ctx, &lv[1], l_l, sampler, scratch)) return std::nullopt;

@@ -112,8 +112,7 @@ std::optional<MltPath> sample_bdpt_path(const BdptScene& ctx, Sampler& sampler, 
     CameraSample cs{cam.raster_point(u), u_lens, u_time};
     std::vector<PathVertex> cv(static_cast<size_t>(t)), lv(static_cast<size_t>(std::max(s, 1)));
     const bool media = ctx.scene.has_media();
-    const DistanceSampling sampling =
-        media ? DistanceSampling::Majorant : DistanceSampling::Tracking;
+    const DistanceSampling sampling = mlt_distance_sampling(ctx);
     if (generate_camera_subpath(ctx, cam.generate_ray(cs), sampler, scratch, t, cv.data(), nullptr,
                                 sampling) != t)
         return std::nullopt;

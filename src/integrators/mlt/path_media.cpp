@@ -12,26 +12,17 @@ std::optional<MediaEdge> trace_edge(const BdptScene& ctx, const PathVertex& a, c
     const Vec3 d = b.p() - a.p();
     if (length_squared(d) == 0) return std::nullopt;
     MediaEdge e;
-    const Medium* medium = a.medium_towards(ctx, normalize(d));
-    Vec3 o = a.p(), o_offset = a.offset();
-    for (int crossing = 0; crossing < 256; ++crossing) {
-        const Ray seg = segment_ray(o, o_offset, b.p(), b.offset(), a.si.time);
-        SurfaceInteraction hit;
-        const bool blocked = ctx.scene.intersect(seg, &hit);
-        if (blocked && !is_interface(hit)) return std::nullopt;
-        if (medium) {
-            const UnitRay u = unit_ray(seg, blocked ? hit.t : seg.tmax);
-            e.tr *= medium_transmittance(*medium, u.ray, u.tmax, sampler);
-            e.tmaj *= majorant_transmittance(*medium, u.ray, u.tmax);
-            if (crossing == 0) e.maj_a = majorant_at(*medium, u.ray, 0, u.tmax);
-            if (!blocked) e.maj_b = majorant_at(*medium, u.ray, u.tmax, u.tmax);
-        }
-        if (!blocked) return e;
-        medium = medium_after(hit, seg.d, medium);
-        o = hit.p;
-        o_offset = hit.offset();
-    }
-    return std::nullopt;
+    const bool reached = walk_segment(
+        ctx.scene, a.p(), a.offset(), b.p(), b.offset(), a.medium_towards(ctx, normalize(d)),
+        a.si.time, [&](const Medium& m, const UnitRay& u, bool first, bool last) {
+            e.tr *= medium_transmittance(m, u.ray, u.tmax, sampler);
+            e.tmaj *= majorant_transmittance(m, u.ray, u.tmax);
+            if (first) e.maj_a = majorant_at(m, u.ray, 0, u.tmax);
+            if (last) e.maj_b = majorant_at(m, u.ray, u.tmax, u.tmax);
+            return true;
+        });
+    if (!reached) return std::nullopt;
+    return e;
 }
 
 }  // namespace
@@ -41,10 +32,11 @@ bool trace_media_edges(const BdptScene& ctx, MltPath& y, const MltPath* reuse, S
     if (!ctx.scene.has_media()) return true;
     const size_t n = y.v.size();
     y.edges.resize(n - 1);
+    if (reuse && reuse->edges.size() + 1 != reuse->v.size()) reuse = nullptr;
     for (size_t k = 0; k + 1 < n; ++k) {
         const Vec3 &a = y.v[k].p(), &b = y.v[k + 1].p();
         bool kept = false;
-        if (reuse && reuse->edges.size() + 1 == reuse->v.size()) {
+        if (reuse) {
             for (size_t j = 0; j + 1 < reuse->v.size() && !kept; ++j) {
                 if (reuse->v[j].p() == a && reuse->v[j + 1].p() == b) {
                     y.edges[k] = reuse->edges[j];

@@ -16,10 +16,17 @@
 // value. Homogeneous media give the exact transmittance.
 #pragma once
 
+#include "bidir/subpaths.h"
 #include "integrators/mlt/path_space.h"
 #include "sampling/sampler.h"
 
 namespace ml {
+
+// How MLT's walks place vertices in media: the majorant's collision process in a scene with
+// media (BDPT's own tracking elsewhere, where it is the same walk).
+inline DistanceSampling mlt_distance_sampling(const BdptScene& ctx) {
+    return ctx.scene.has_media() ? DistanceSampling::Majorant : DistanceSampling::Tracking;
+}
 
 // Traces every edge of `y` through interfaces and the media between them: false where an edge is
 // blocked by another surface. An edge whose two ends are points of an edge of `reuse` keeps that
