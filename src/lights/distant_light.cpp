@@ -13,6 +13,10 @@ public:
     DistantLight(const Vec3& w, const RGB& L) : m_w(normalize(w)), m_L(L) {}
     LightType type() const override { return LightType::DeltaDirection; }
     void preprocess(const Bounds3& b) override { b.bounding_sphere(&m_center, &m_radius); }
+    bool emission_sphere(Vec3* center, float* radius) const override {
+        *center = m_center, *radius = m_radius;
+        return m_radius > 0;
+    }
 
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                            const Vec2& u) const override {

@@ -31,6 +31,10 @@ public:
     explicit UniformInfiniteLight(const RGB& L) : m_L(L) {}
     LightType type() const override { return LightType::Infinite; }
     void preprocess(const Bounds3& b) override { b.bounding_sphere(&m_center, &m_radius); }
+    bool emission_sphere(Vec3* center, float* radius) const override {
+        *center = m_center, *radius = m_radius;
+        return m_radius > 0;
+    }
 
     // With MIS against the BSDF allowed to leave directions out (allow_incomplete_pdf), a
     // constant radiance is left to BSDF sampling entirely, as pbrt-v4 does: it fits the BSDF
@@ -143,6 +147,10 @@ public:
     }
     LightType type() const override { return LightType::Infinite; }
     void preprocess(const Bounds3& b) override { b.bounding_sphere(&m_center, &m_radius); }
+    bool emission_sphere(Vec3* center, float* radius) const override {
+        *center = m_center, *radius = m_radius;
+        return m_radius > 0;
+    }
 
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
                                            const Vec2& u) const override {

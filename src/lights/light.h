@@ -100,6 +100,11 @@ public:
     virtual void pdf_le(const Ray& ray, const Vec3& n_light, float* pdf_pos,
                         float* pdf_dir) const = 0;
 
+    // Lights whose light paths start on a disk as large as the scene's bounding sphere, facing
+    // the light (distant and infinite lights): that sphere (the disk's plane touches it on the
+    // light's side; sample_le's origins are uniform over the disk). false for the others.
+    virtual bool emission_sphere(Vec3* center, float* radius) const { return false; }
+
     // Total emitted power (flux), RGB.
     virtual RGB power() const = 0;
 

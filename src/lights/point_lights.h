@@ -104,7 +104,8 @@ struct PointLightSet {
     size_t omni = 0, oriented = 0, directional = 0, glossy = 0;  // counts by kind
     size_t vpls = 0;                                             // how many of the lights are VPLs
     size_t light_paths = 0;                                      // light paths traced for the VPLs
-    double seconds = 0;                                          // time to build the set
+    float focus_share = 0, focus_radius = 0;  // the VPLs' emission focus (VplOptions), if any
+    double seconds = 0;                       // time to build the set
     // The VPL count asked for (vpl.count) and the one the sampler was given: fewer where a
     // time limit allowed no more (manylight/vpl_budget.h).
     int vpl_count_requested = 0, vpl_count_used = 0;

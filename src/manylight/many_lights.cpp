@@ -156,6 +156,14 @@ ManyLightSettings ManyLightSettings::read(const Settings& s, const Defaults& def
     m.vpls_reach = vpl_depth_given || m.max_depth >= 2;
     m.lights.vpls = m.lights.vpl_count > 0 && m.vpls_reach;
     read_vpl_sampler(s, &m.lights.vpl_sampler);
+    m.lights.vpl_focus = s.get_float(
+        "vpl.focus", defaults.focus,
+        {"0 to 0.99",
+         "Share of the distant and infinite lights' VPL paths started towards what the camera "
+         "sees, the rest over the whole scene (0: none); unbiased either way. Where the camera "
+         "sees a room in a large scene, paths over the whole scene mostly miss it."});
+    if (!(m.lights.vpl_focus >= 0 && m.lights.vpl_focus <= 0.99f))
+        throw UsageError("vpl.focus must be 0 to 0.99");
     m.lights.area_count = s.get_int("lights.area_count", m.lights.area_count,
                                     {">= 1", "Point lights sampled on the area lights."});
     m.lights.env_count = s.get_int("lights.env_count", m.lights.env_count,
@@ -356,8 +364,14 @@ nlohmann::json many_light_figures(const PointLightSet& set, const SampledDirectL
                         {"direct", direct.empty() ? "points" : "sample"},
                         {"direct_samples", direct.empty() ? 0 : direct.samples()},
                         {"direct_mis", direct.mis() ? "always" : "glossy"}};
+    j.update(vpl_focus_json(set));
     j.update(vpl_budget_json(set));
     return j;
+}
+
+nlohmann::json vpl_focus_json(const PointLightSet& set) {
+    if (!(set.focus_share > 0)) return nlohmann::json::object();
+    return {{"vpl_focus", {{"share", set.focus_share}, {"radius", set.focus_radius}}}};
 }
 
 LightTree build_light_tree(const Scene& scene, const ManyLightSettings& settings,

@@ -64,6 +64,10 @@ struct ManyLightSettings {
         // Whether camera paths gather with gather_along (gather.medium_points is read); false
         // for an integrator that traces its own eye paths through media (bdlightcuts).
         bool gathers = true;
+        // vpl.focus: on for `vpl` and `igi`, whose few or exactly summed VPLs gain from it; the
+        // cuts' capped refinement did worse with more VPLs where the camera looks
+        // (bench/RESULTS.md, "VPL samplers").
+        float focus = 0.f;
     };
     static ManyLightSettings read(const Settings& s, const Defaults& defaults);
     static ManyLightSettings read(const Settings& s) { return read(s, Defaults{}); }
@@ -121,6 +125,9 @@ void read_vpl_sets(const Settings& s, ManyLightSettings* settings);
 
 // vpl.sampler and the settings of the sampler it names (manylight/vpl_sampler.h).
 void read_vpl_sampler(const Settings& s, VplSamplerOptions* options);
+
+// The VPLs' emission focus, where the set has one: {"vpl_focus": {share, radius}}; else {}.
+nlohmann::json vpl_focus_json(const PointLightSet& set);
 
 // What `vpl`, `lightcuts` and `mdlightcuts` shade with: the point-light set and, with
 // lights.direct=sample, the sampled direct light.

@@ -6,6 +6,7 @@
 #include "core/rng.h"
 #include "lights/light.h"
 #include "manylight/vpl_budget.h"
+#include "manylight/vpl_sampler.h"
 #include "sampling/sampler.h"
 #include "scene/scene.h"
 
@@ -50,6 +51,18 @@ void add_emitters(const Scene& scene, const PointLightOptions& options, PointLig
     }
 }
 
+// Whether a light's paths start on a disk over the whole scene (Light::emission_sphere).
+bool has_disk_light(const Scene& scene) {
+    Vec3 c;
+    float r;
+    for (const auto& l : scene.lights())
+        if (l->emission_sphere(&c, &r)) return true;
+    return false;
+}
+
+// Camera points that place the emission focus.
+constexpr int kFocusPoints = 1024;
+
 }  // namespace
 
 PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions& options) {
@@ -63,6 +76,15 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
         vo.glossy = options.vpl_glossy;
         vo.seed = stream_seed(options.seed);
         vo.sampler = options.vpl_sampler;
+        const VplSamplerKind kind = options.vpl_sampler.kind;
+        if (options.vpl_focus > 0 && options.camera &&
+            (kind == VplSamplerKind::Standard || kind == VplSamplerKind::Power) &&
+            has_disk_light(scene) &&
+            camera_focus_sphere(scene, *options.camera, kFocusPoints, vo.seed, &vo.focus_center,
+                                &vo.focus_radius))
+            vo.focus_share = options.vpl_focus;
+        set.focus_share = vo.focus_share;
+        set.focus_radius = vo.focus_share > 0 ? vo.focus_radius : 0.f;
         set.vpl_count_requested = vo.count;
         set.vpl_count_used = sample_vpls_within(scene, options.camera, vo, options.vpl_budget, set);
     }

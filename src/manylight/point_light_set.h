@@ -27,6 +27,9 @@ struct PointLightOptions {
     bool vpls = true;  // include VPLs
     uint64_t seed = 0;
     VplSamplerOptions vpl_sampler;  // vpl.sampler and its settings (manylight/vpl_sampler.h)
+    // vpl.focus: the share of the distant and infinite lights' paths started towards what the
+    // camera sees (VplOptions::focus_share; standard and power samplers, with a camera).
+    float vpl_focus = 0;
     // The render's camera, which every sampler but `standard` needs (set before building).
     const PerspectiveCamera* camera = nullptr;
     // Under a time limit, what the VPL build may take (manylight/vpl_budget.h); none by default.

@@ -111,6 +111,25 @@ Vec3 fibonacci_direction(int i, int n) {
 
 }  // namespace
 
+void VplTracer::focus_emission(const Vec3& center, float radius, bool on_focus, const Vec2& u_pos,
+                               LightLeSample* le) const {
+    // The disk lies in the plane through center - d radius, normal to the paths' direction d; the
+    // focus sphere's shadow on it is the disk of its radius about its centre's projection.
+    const Vec3 d = le->ray.d;
+    const Vec3 disk = center - d * radius;
+    const Vec3 focus = m_options.focus_center - d * dot(m_options.focus_center - disk, d);
+    const float r = m_options.focus_radius, share = m_options.focus_share;
+    if (on_focus) {
+        const Frame f = Frame::from_z(d);
+        const Vec2 q = sample_uniform_disk_concentric(u_pos) * r;
+        le->ray.o = focus + f.s * q.x + f.t * q.y;
+    }
+    const bool in_focus = on_focus || length_squared(le->ray.o - focus) <= r * r;
+    const bool in_disk = !on_focus || length_squared(le->ray.o - disk) <= radius * radius;
+    le->pdf_pos = (in_focus ? share / (kPi * r * r) : 0.f) +
+                  (in_disk ? (1 - share) / (kPi * radius * radius) : 0.f);
+}
+
 VplTracer::VplTracer(const Scene& scene, const VplOptions& options)
     : m_scene(scene), m_options(options), m_light_sampler("power", scene.lights()) {
     if (!options.light_pmf.empty()) m_light_pmf = Distribution1D(options.light_pmf);
@@ -151,7 +170,19 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
         pmf = sl->pmf;
     }
     if (!light || pmf == 0) return -1;
+    // Emission focus (VplOptions): u_pos.x picks the disk, then places the point on it.
+    Vec3 disk_center;
+    float disk_radius = 0;
+    const bool focused = m_options.focus_share > 0 && m_options.focus_radius > 0 &&
+                         light->emission_sphere(&disk_center, &disk_radius) &&
+                         m_options.focus_radius < disk_radius;
+    const float share = m_options.focus_share;
+    const bool on_focus = focused && u_pos.x < share;
+    if (focused)
+        u_pos.x = on_focus ? u_pos.x / share
+                           : std::min((u_pos.x - share) / (1 - share), kOneMinusEpsilon);
     auto le = light->sample_le(u_pos, u_dir);
+    if (le && focused) focus_emission(disk_center, disk_radius, on_focus, u_pos, &*le);
     if (!le || le->L.is_black() || le->pdf_pos == 0 || le->pdf_dir == 0) return light->index;
     bool on_surface = length_squared(le->n_light) > 0;
     float cos_l = on_surface ? abs_dot(le->n_light, le->ray.d) : 1.f;

@@ -45,6 +45,15 @@ struct VplOptions {
     // Deposit only where the path arrives from a specular bounce (bidirectional sampling makes
     // the other VPLs from the camera).
     bool after_specular_only = false;
+    // Emission focus: a sphere around what the camera sees (focus_radius 0: none). The lights
+    // whose paths start on a disk over the whole scene (distant and infinite lights,
+    // Light::emission_sphere) start the share focus_share of them on the sphere's shadow on that
+    // disk instead, and every such path is weighed by the mixture's density, so that the VPLs
+    // stay unbiased. Where the camera sees a room in a large scene (a classroom on a ground
+    // plane hundreds of metres across), most paths over the whole disk miss the room.
+    Vec3 focus_center;
+    float focus_radius = 0;
+    float focus_share = 0;
 };
 
 // Appends VPLs to set.lights (their surfaces to set.surfaces, the surfaces' Bxdfs to set.arenas)
@@ -79,6 +88,11 @@ public:
                    const float* time = nullptr) const;
 
 private:
+    // Emission focus (VplOptions::focus_*) for a light whose paths start on the disk of the
+    // sphere (center, radius): on_focus, le's origin moves to the focus's shadow (u_pos placing
+    // it there); either way pdf_pos becomes the mixture's density at the origin.
+    void focus_emission(const Vec3& center, float radius, bool on_focus, const Vec2& u_pos,
+                        LightLeSample* le) const;
     const Scene& m_scene;
     VplOptions m_options;
     LightSampler m_light_sampler;

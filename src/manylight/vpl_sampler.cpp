@@ -1,5 +1,7 @@
 #include "manylight/vpl_sampler.h"
 
+#include <algorithm>
+
 #include "camera/camera.h"
 #include "core/error.h"
 #include "core/rng.h"
@@ -81,6 +83,24 @@ PilotPoints camera_pilot_points(const Scene& scene, const PerspectiveCamera& cam
         }
     }
     return pilot;
+}
+
+bool camera_focus_sphere(const Scene& scene, const PerspectiveCamera& camera, int count,
+                         uint64_t seed, Vec3* center, float* radius) {
+    PilotPoints pilot = camera_pilot_points(scene, camera, count, 8, seed);
+    const size_t n = pilot.points.size();
+    if (n < 16) return false;
+    Bounds3 box;
+    std::vector<float> c(n);
+    for (int axis = 0; axis < 3; ++axis) {
+        for (size_t i = 0; i < n; ++i) c[i] = pilot.points[i].si.p[axis];
+        std::sort(c.begin(), c.end());
+        const float lo = c[n / 20], hi = c[n - 1 - n / 20], grow = (hi - lo) / 10;
+        box.lo[axis] = lo - grow;
+        box.hi[axis] = hi + grow;
+    }
+    box.bounding_sphere(center, radius);
+    return *radius > 0;
 }
 
 }  // namespace ml

@@ -67,4 +67,10 @@ struct PilotPoints {
 PilotPoints camera_pilot_points(const Scene& scene, const PerspectiveCamera& camera, int count,
                                 int max_depth, uint64_t seed);
 
+// The emission focus (VplOptions::focus_center, focus_radius): the bounding sphere of the middle
+// 90% of the points the camera sees along each axis (`count` pilot points), its box grown by a
+// tenth on every side; false where the camera sees too little (fewer than 16 points).
+bool camera_focus_sphere(const Scene& scene, const PerspectiveCamera& camera, int count,
+                         uint64_t seed, Vec3* center, float* radius);
+
 }  // namespace ml

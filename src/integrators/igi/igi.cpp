@@ -96,8 +96,8 @@ IgiSettings IgiSettings::read(const Settings& s) {
 }
 
 IgiIntegrator::IgiIntegrator(const Settings& settings)
-    : m_many(
-          ManyLightSettings::read(settings, {.glossy = "diffuse", .clamp = 0.2f, .tree_reps = 0})),
+    : m_many(ManyLightSettings::read(
+          settings, {.glossy = "diffuse", .clamp = 0.2f, .tree_reps = 0, .focus = 0.5f})),
       m_igi(IgiSettings::read(settings)) {
     // igi.vpls, or the vpl.count the other many-light integrators read (under igi's default);
     // both only if they agree. vpl.count is read last, so that its default listed for igi
@@ -219,6 +219,7 @@ RenderResult IgiIntegrator::render(const RenderContext& ctx) {
     m_many.use_render_seed(ctx.seed);
     m_many.use_time_limit(ctx, false);
     m_many.use_scene(scene);
+    m_many.lights.camera = &ctx.camera;  // the VPLs' emission focus (vpl.focus)
     build_many_lights(scene, m_many, &m_set, &m_direct);
 
     // The VPLs dealt round-robin to the sub-buffers (VPLs are in light-path order, so every

@@ -5,7 +5,7 @@
 namespace ml {
 
 VplIntegrator::VplIntegrator(const Settings& settings)
-    : m_settings(ManyLightSettings::read(settings, {.tree_reps = 0})) {
+    : m_settings(ManyLightSettings::read(settings, {.tree_reps = 0, .focus = 0.5f})) {
     read_vpl_sets(settings, &m_settings);
 }
 
@@ -32,6 +32,7 @@ RenderResult VplIntegrator::render(const RenderContext& ctx) {
             if (m_lit && m_lit[i].load(std::memory_order_relaxed)) ++lighting;
         }
     r.stats["vpl"] = {{"vpl_lights", vpl_lights}, {"lighting", lighting}};
+    r.stats["vpl"].update(vpl_focus_json(m_set));
     r.stats["vpl"].update(vpl_budget_json(m_set));
     return r;
 }
