@@ -1,12 +1,14 @@
 // The VPL samplers (manylight/vpl_sampler.h): one interface, `standard` unchanged behind it, and
 // `power` and `bidirectional` consistent with `standard` and with the analytic furnace, within
 // tolerances from the spread over seeds (a VPL render's pixels share their VPLs, so the pixels'
-// own noise understates it), deterministic at any thread count.
+// own noise understates it), deterministic at any thread count; and the emission focus of the
+// sun's and the sky's light paths (vpl.focus) against the path tracer.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -565,6 +567,140 @@ TEST(VplSamplers, MetropolisChainsSpreadTheVpls) {
     EXPECT_GT(now.starts, 4u * 4);
     EXPECT_GT(double(now.geometric), 1.3 * double(one.geometric));
     EXPECT_LT(now.longest, one.longest);
+}
+
+// The VPLs' emission focus (vpl.focus, VplOptions::focus_*; on by default for `vpl` and `igi`):
+// distant and infinite lights start a share of their light paths on the shadow of a sphere around
+// what the camera sees, and weigh every path by the mixture's density. A sphere on a ground plane
+// hundreds of metres across, lit by the sun and the sky: without the focus, about one light path
+// in ten thousand lands where the camera looks.
+const char* const kSunlitSphere = R"(
+LookAt 0 2.5 -3  0 0.3 0  0 1 0
+Camera "perspective" "float fov" [ 50 ]
+Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 12 ]
+Sampler "independent"
+PixelFilter "box"
+WorldBegin
+LightSource "distant" "point3 from" [ 1 3 -1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3 3 3 ]
+LightSource "infinite" "rgb L" [ 0.3 0.4 0.6 ]
+Material "diffuse" "rgb reflectance" [ 0.4 0.5 0.6 ]
+Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
+  "point3 P" [ -200 0 -200  -200 0 200  200 0 200  200 0 -200 ]
+AttributeBegin
+  Material "diffuse" "rgb reflectance" [ 0.8 0.5 0.3 ]
+  Translate 0 0.5 0
+  Shape "sphere" "float radius" [ 0.5 ]
+AttributeEnd
+)";
+
+// The sunlit sphere's scene, its camera (with the scene's lens, or the default 90-degree one) and
+// the focus sphere that camera gives.
+struct SunlitView {
+    AnimatedTransform to_world;
+    ParameterList lens;
+    std::unique_ptr<Scene> scene;
+    SunlitView() {
+        SceneDesc desc = parse_scene_string(kSunlitSphere, ".");
+        to_world = desc.camera_to_world();
+        lens = desc.camera.params;
+        scene = std::make_unique<Scene>(std::move(desc));
+    }
+    PerspectiveCamera camera(bool own_lens = true) const {
+        return PerspectiveCamera(own_lens ? lens : ParameterList(), to_world, 16, 12);
+    }
+    // The focus sphere's radius (0: none), its centre into *c.
+    float focus(const PerspectiveCamera& cam, Vec3* c) const {
+        float r = 0;
+        return camera_focus_sphere(*scene, cam, 1024, 7, c, &r) ? r : 0.f;
+    }
+};
+
+RenderOptions focus_render(const std::string& integrator, const std::string& focus) {
+    RenderOptions opt;
+    opt.integrator = integrator;
+    opt.spp = integrator == "path" ? 1024 : 4;
+    opt.max_depth = 2;  // one bounce: the VPLs' light and the direct light
+    opt.threads = 2;
+    if (integrator == "vpl") {
+        opt.set["vpl.count"] = "2000";
+        opt.set["vpl.focus"] = focus;
+    }
+    return opt;
+}
+
+TEST(VplFocus, ShareMustBeBelowOne) {
+    for (const char* bad : {"-0.1", "1", "2"}) {
+        RenderOptions opt = focus_render("vpl", bad);
+        opt.seed = 1;
+        EXPECT_THROW(render_text(kSunlitSphere, opt), UsageError) << bad;
+    }
+}
+
+TEST(VplFocus, FindsWhatTheCameraSees) {
+    SunlitView view;
+    Vec3 c;
+    const float r = view.focus(view.camera(), &c);
+    // The camera sees the sphere and the ground up to about 9.5 m past it (the image's top edge
+    // is 11 degrees below the horizon): a sphere of a few metres there, not the ground plane's.
+    EXPECT_GT(r, 3.f);
+    EXPECT_LT(r, 10.f);
+    EXPECT_LT(length(c - Vec3(0, 0, 3)), 2.f);
+    // With the camera's default field of view (90 degrees) the image reaches past the horizon:
+    // the middle 90% of what it sees spreads further.
+    EXPECT_GT(view.focus(view.camera(false), &c), 2 * r);
+}
+
+// The share of a set's VPLs inside the focus sphere, with and without the focus: half the sun's
+// and sky's paths start towards it, where without it about one in ten thousand lands there.
+TEST(VplFocus, SendsTheShareOfPathsWhereTheCameraLooks) {
+    SunlitView view;
+    const PerspectiveCamera camera = view.camera();
+    Vec3 c;
+    const float r = view.focus(camera, &c);
+    ASSERT_GT(r, 0.f);
+    auto inside_share = [&](float focus) {
+        PointLightOptions o;
+        o.emitters = false;
+        o.vpl_count = 4000;
+        o.vpl_max_depth = 1;
+        o.seed = 3;
+        o.camera = &camera;
+        o.vpl_focus = focus;
+        PointLightSet set = build_point_light_set(*view.scene, o);
+        EXPECT_EQ(set.focus_share, focus);
+        size_t inside = 0;
+        for (const PointLight& pl : set.lights) inside += length(pl.p - c) < r;
+        return double(inside) / double(set.lights.size());
+    };
+    // The focus sphere's shadow catches a little more than its ground (the sphere's disk over
+    // a sun 20 degrees off the vertical), so a little less than half of the paths land inside.
+    EXPECT_GT(inside_share(0.5f), 0.3);
+    EXPECT_GT(inside_share(0.9f), 0.55);
+    EXPECT_LT(inside_share(0.f), 0.01);
+}
+
+// The focused VPLs' render against the path tracer's, per channel, over seeds: a wrong mixture
+// density (the whole disk's alone, or the focus's alone) is off by orders of magnitude.
+TEST(VplFocus, AgreesWithPath) {
+    auto means = [](const RenderOptions& opt, int seeds) {
+        return over_seeds(seeds, [&](uint64_t seed) {
+            RenderOptions o = opt;
+            o.seed = seed;
+            return render_text(kSunlitSphere, o).image;
+        });
+    };
+    const SeedMeans ref = means(focus_render("path", ""), 4);
+    for (const char* share : {"0.5", "0.9"}) {
+        const SeedMeans focused = means(focus_render("vpl", share), 16);
+        for (int c = 0; c < 3; ++c) {
+            auto [p, p_se] = seed_mean(ref, c);
+            auto [f, f_se] = seed_mean(focused, c);
+            std::printf("focus %s channel %d: path %.5f (se %.5f), vpl %.5f (se %.5f)\n", share, c,
+                        p, p_se, f, f_se);
+            EXPECT_NEAR(f, p, 4 * std::hypot(f_se, p_se)) << share << " channel " << c;
+            EXPECT_LT(4 * std::hypot(f_se, p_se), 0.05 * p) << "channel " << c << ": too noisy";
+        }
+    }
 }
 
 }  // namespace
