@@ -203,7 +203,7 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
     auto sampler = create_sampler("independent", 16, 11);
     ScratchBuffer scratch;
     Rng rng(17);
-    int checked = 0, clustered = 0, capped_pairs = 0;
+    int checked = 0, clustered = 0, capped_pairs = 0, drawn_shapes = 0;
     for (Point2i pixel : pixels) {
         std::vector<WeightedGatherPoint> points;
         std::vector<Vec3> positions;
@@ -259,6 +259,22 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
         cut.refine(points, gtree, 0, RGB(), 0.02f, 8, CutCriterion::Max, 1);
         EXPECT_LE(cut.pairs().size(), 8u) << "pixel " << pixel.x << "," << pixel.y;
         capped_pairs += int(cut.pairs().size());
+        // With set_draw_free, which pairs a cut splits depends on no draw: other representatives
+        // (another k) give a cut of the same pairs, capped or not. Without it they may not.
+        for (int cap : {8, 2000}) {
+            auto shape = [&](int k, bool draw_free) {
+                cut.set_draw_free(draw_free);
+                cut.refine(points, gtree, k, RGB(0.01f), 0.02f, cap, CutCriterion::Max, 1);
+                cut.set_draw_free(false);
+                std::vector<std::pair<int32_t, int32_t>> s;
+                for (const ProductPair& p : cut.pairs()) s.emplace_back(p.gather, p.light);
+                std::sort(s.begin(), s.end());
+                return s;
+            };
+            EXPECT_EQ(shape(0, true), shape(tree.reps() - 1, true))
+                << "pixel " << pixel.x << "," << pixel.y << " cap " << cap;
+            drawn_shapes += shape(0, false) != shape(tree.reps() - 1, false);
+        }
         cut.refine(points, gtree, 0, RGB(), 0.02f, 2000, CutCriterion::Max, 1);
         std::vector<ProductPair> pairs = cut.pairs();
         // Random pairs: a random gather node with a light node a random number of levels down.
@@ -295,8 +311,12 @@ void expect_pair_bounds_hold(SceneDesc desc, int w, int h, int vpls, const char*
         }
         scratch.reset();
     }
-    std::printf("%d pairs checked, %d of them clustered; %d pairs of capped cuts\n", checked,
-                clustered, capped_pairs);
+    std::printf(
+        "%d pairs checked, %d of them clustered; %d pairs of capped cuts; %d cuts whose pairs "
+        "follow the draws\n",
+        checked, clustered, capped_pairs, drawn_shapes);
+    // The estimate-driven refinement does follow them somewhere (what set_draw_free takes away).
+    EXPECT_GT(drawn_shapes, 0);
     EXPECT_GT(clustered, 100);
     EXPECT_GT(capped_pairs, 20);
 }

@@ -212,10 +212,13 @@ ProductPair ProductCut::make_pair(const std::vector<WeightedGatherPoint>& points
                                       selection_weight(m_set.lights[size_t(lrep)].intensity));
     p.estimate = rep_value * scale;
     if (G.is_leaf() && L.is_leaf()) return p;  // exact
-    p.bound =
-        error_bound(weighted(loose_bound(points, gtree, gather, light), G, light), p.estimate);
+    p.bound = pair_bound(weighted(loose_bound(points, gtree, gather, light), G, light), p.estimate);
     p.tight = p.bound == 0;
     return p;
+}
+
+float ProductCut::pair_bound(const RGB& value_bound, const RGB& estimate) const {
+    return m_draw_free ? bound_luminance(value_bound) : error_bound(value_bound, estimate);
 }
 
 bool ProductCut::split_gather(const GatherTree& gtree, const ProductPair& p) const {
@@ -310,7 +313,7 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
     // images that converge"). The spikes are noise the later passes average away.
     while (!m_heap.empty() && int(m_cut.size()) < max_cut) {
         float top = m_heap.front().bound;
-        float tolerance = cut_tolerance(error, total, floor_luminance);
+        float tolerance = cut_tolerance(error, m_draw_free ? known : total, floor_luminance);
         if (top <= 0.f) break;
         if (criterion == CutCriterion::Max ? top <= tolerance : sums.within(tolerance)) break;
         std::pop_heap(m_heap.begin(), m_heap.end());
@@ -323,9 +326,9 @@ RGB ProductCut::refine(const std::vector<WeightedGatherPoint>& points, const Gat
             // Tighten the bound and look again: the pair may no longer be the worst.
             p.tight = true;
             if (gtree.node(p.gather).end - gtree.node(p.gather).begin <= tighten_members) {
-                float b = error_bound(weighted(tight_bound(points, gtree, p.gather, p.light),
-                                               gtree.node(p.gather), p.light),
-                                      p.estimate);
+                float b = pair_bound(weighted(tight_bound(points, gtree, p.gather, p.light),
+                                              gtree.node(p.gather), p.light),
+                                     p.estimate);
                 p.bound = std::min(p.bound, b);
                 push(p, slot);
                 continue;

@@ -114,6 +114,15 @@ public:
     // point and cone: mdlightcuts' kitchen takes 11% more CPU without them, bdlightcuts' 7 to 10%
     // less at the same relMSE (bench/RESULTS.md, "Issue 17, session 18").
     void set_direction_bins(bool on) { m_direction_bins = on; }
+    // Whether the refinement looks at no draw of its own (false: the default, as above). On: a
+    // pair's place in the heap is its bound alone, not the larger of it and its estimate, and
+    // the tolerance is relative to `known` (and the floor), not to the running estimate. Then
+    // which pairs are split depends on the points, the trees and `known` only, so every pair's
+    // estimate keeps its mean whatever max_cut stops the cut. Off, the two rules select the draws
+    // they keep (a spike is split, a low draw stays: darker where the cap binds; a pixel whose
+    // draws are high stops earlier: brighter), and the mean rests on their cancelling
+    // (bench/RESULTS.md, "Many-light images that converge").
+    void set_draw_free(bool on) { m_draw_free = on; }
     // The cut refine() made (clustered pairs and exact ones alike).
     const std::vector<ProductPair>& pairs() const { return m_cut; }
 
@@ -148,6 +157,9 @@ private:
     const ManyLightSettings& m_settings;
     const PairWeight* m_pair_weight = nullptr;
     bool m_direction_bins = true;
+    bool m_draw_free = false;
+    // A pair's key in the heap from the bound of its value and its estimate (set_draw_free).
+    float pair_bound(const RGB& value_bound, const RGB& estimate) const;
     struct HeapEntry {
         float bound;
         int32_t slot;  // index into m_cut

@@ -128,8 +128,19 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     if (m_emission_samples < 1) throw UsageError("bdlightcuts.emission_samples must be at least 1");
     m_error = settings.get_float(
         "error", m_error,
-        {">= 0", "Relative error bound of each VSP-light pair against the pixel's estimate."});
+        {">= 0",
+         "Relative error bound of each VSP-light pair against the pixel's estimate (with "
+         "refine=bounds, its eye paths' part)."});
     m_max_cut = settings.get_int("max_cut", m_max_cut, {">= 1", "Most pairs in one product cut."});
+    const std::string refine = settings.get_string(
+        "refine", m_refine_by_bounds ? "bounds" : "estimates",
+        {"bounds, estimates",
+         "Which pair the cut splits next: the largest bound, with a tolerance relative to the eye "
+         "paths' part (bounds: the cut's mean does not depend on max_cut), or the largest of "
+         "bound and estimate, relative to the running estimate (estimates, as mdlightcuts)."});
+    if (refine != "bounds" && refine != "estimates")
+        throw UsageError("bdlightcuts.refine must be bounds or estimates, not '" + refine + "'");
+    m_refine_by_bounds = refine == "bounds";
     m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
     m_adaptive = settings.get_bool("adaptive", m_adaptive,
                                    {"",
@@ -607,6 +618,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"emission_samples", m_emission_samples},
                               {"error", m_error},
                               {"max_cut", m_max_cut},
+                              {"refine", m_refine_by_bounds ? "bounds" : "estimates"},
                               {"time_cap", cut_cap_json(cap_plan)},
                               {"floor", m_floor},
                               {"adaptive", m_adaptive},
@@ -708,6 +720,7 @@ BdLightcutsIntegrator::PassEstimate BdLightcutsIntegrator::estimate_pass(
         ts.cut.set_pair_weight(&ts.weighting);
         // The fixed cones' BSDF bounds cost more than they save here (product_cut.h).
         ts.cut.set_direction_bins(false);
+        ts.cut.set_draw_free(m_refine_by_bounds);
         int k = rep_index(ts.uniforms[size_t(spare)], m_tree.reps());
         C = ts.cut.refine(ts.points, ts.tree, k, known, m_error, max_cut, CutCriterion::Max, 1,
                           m_floor_luminance);
