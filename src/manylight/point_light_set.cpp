@@ -52,6 +52,12 @@ void add_emitters(const Scene& scene, const PointLightOptions& options, PointLig
 }
 
 // Whether a light's paths start on a disk over the whole scene (Light::emission_sphere).
+
+// Camera points that place the emission focus.
+constexpr int kFocusPoints = 1024;
+
+}  // namespace
+
 bool has_disk_light(const Scene& scene) {
     Vec3 c;
     float r;
@@ -59,11 +65,6 @@ bool has_disk_light(const Scene& scene) {
         if (l->emission_sphere(&c, &r)) return true;
     return false;
 }
-
-// Camera points that place the emission focus.
-constexpr int kFocusPoints = 1024;
-
-}  // namespace
 
 PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions& options) {
     auto start = std::chrono::steady_clock::now();
@@ -85,6 +86,8 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
             vo.focus_share = options.vpl_focus;
         set.focus_share = vo.focus_share;
         set.focus_radius = vo.focus_share > 0 ? vo.focus_radius : 0.f;
+        vo.region_center = options.vpl_region_center;
+        vo.region_radius = options.vpl_region_radius;
         set.vpl_count_requested = vo.count;
         set.vpl_count_used = sample_vpls_within(scene, options.camera, vo, options.vpl_budget, set);
     }

@@ -34,7 +34,14 @@ struct PointLightOptions {
     const PerspectiveCamera* camera = nullptr;
     // Under a time limit, what the VPL build may take (manylight/vpl_budget.h); none by default.
     VplBudget vpl_budget;
+    // > 0: VPLs only within this sphere (VplOptions::region_*).
+    Vec3 vpl_region_center;
+    float vpl_region_radius = 0;
 };
+
+// Whether a light of the scene starts its light paths on a disk over the whole scene (distant
+// and infinite lights, Light::emission_sphere): the lights vpl.focus aims.
+bool has_disk_light(const Scene& scene);
 
 // Emitters' point lights first (in scene light order), then the VPLs (in light-path order).
 // Deterministic for a seed, whatever the number of threads.

@@ -252,7 +252,10 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
         uint8_t flags = bsdf.flags();
         bool glossy = flags & kBxdfGlossy;
         if (bsdf.has_nonspecular() && (m_options.glossy != GlossyVpls::Skip || !glossy)) {
-            if (after_specular || !m_options.after_specular_only) {
+            if ((after_specular || !m_options.after_specular_only) &&
+                (!(m_options.region_radius > 0) ||
+                 distance_squared(si.p, m_options.region_center) <=
+                     m_options.region_radius * m_options.region_radius)) {
                 size_t before = chunk.lights.size();
                 deposit_vpl(si, bsdf, beta, m_options.glossy, chunk);
                 if (chunk.lights.size() > before)

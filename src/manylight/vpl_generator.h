@@ -54,6 +54,9 @@ struct VplOptions {
     Vec3 focus_center;
     float focus_radius = 0;
     float focus_share = 0;
+    // > 0: VPLs are deposited only within this sphere (the paths go on either way).
+    Vec3 region_center;
+    float region_radius = 0;
 };
 
 // Appends VPLs to set.lights (their surfaces to set.surfaces, the surfaces' Bxdfs to set.arenas)

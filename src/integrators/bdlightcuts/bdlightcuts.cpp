@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/parallel.h"
+#include "core/rng.h"
 #include "core/stats.h"
 #include "integrators/bdlightcuts/eye_path.h"
 #include "integrators/bdlightcuts/pair_weights.h"
@@ -13,6 +14,7 @@
 #include "manylight/gather_tree.h"
 #include "manylight/pilot.h"
 #include "manylight/sample_shares.h"
+#include "manylight/vpl_sampler.h"
 #include "materials/material.h"
 #include "render/render_loop.h"
 #include "transport/direct_lighting.h"
@@ -31,6 +33,8 @@ namespace {
 // CPU (bench/RESULTS.md, "Issue 17, session 19"; mdlightcuts, whose error is mostly its bias,
 // gains nothing from them).
 constexpr int kTreeReps = 32;
+// Camera points that place the VPL region (as the emission focus's).
+constexpr int kRegionPoints = 1024;
 
 }  // namespace
 
@@ -56,7 +60,9 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     // lights.direct defaults to sample: bench/RESULTS.md, "Issue 17, session 14".
     // Its eye paths find their own vertices in media (delta tracking): gather.medium_points is
     // not its setting.
-    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample", kTreeReps, false});
+    // vpl.focus 0.5 fills the VPL region (render()): without it the region would take about
+    // 60 times the light paths on the classroom.
+    m_settings = ManyLightSettings::read(settings, {"bsdf", 0.f, "sample", kTreeReps, false, 0.5f});
     read_vpl_sets(settings, &m_settings);
     // lights.direct=sample: the split that joins a VSP to an emitter by a light sample at the
     // VSP, weighed by MIS against the eye path's BSDF sample, instead of the emitters' points
@@ -141,6 +147,15 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     if (refine != "bounds" && refine != "estimates")
         throw UsageError("bdlightcuts.refine must be bounds or estimates, not '" + refine + "'");
     m_refine_by_bounds = refine == "bounds";
+    const std::string region = settings.get_string(
+        "vpl_region", m_vpl_region ? "view" : "scene",
+        {"view, scene",
+         "Where the VPLs are, in a scene lit by distant or infinite lights (with eye_length 1 and "
+         "no media): only within the sphere around what the camera sees, the light of the rest "
+         "path traced by the remainders (view), or everywhere (scene)."});
+    if (region != "view" && region != "scene")
+        throw UsageError("bdlightcuts.vpl_region must be view or scene, not '" + region + "'");
+    m_vpl_region = region == "view";
     m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
     m_adaptive = settings.get_bool("adaptive", m_adaptive,
                                    {"",
@@ -261,6 +276,11 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             // The remainder: paths through x_{J+1} = si longer than the eye path, weighted by
             // what splits 1 ... J leave (trace_eye's prefix and pending split are r's inputs).
             float pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
+            // No VPL outside the VPL region (render()): split J weighs 0 on the paths whose
+            // x_{J+1} is there, and the remainder takes their whole share.
+            const float rr = m_settings.lights.vpl_region_radius;
+            if (rr > 0 && distance_squared(si.p, m_settings.lights.vpl_region_center) > rr * rr)
+                pending_mt = -1.f;
             // (With glowing media it goes on for their light even where r vanishes.)
             if (m_rest_path && (m_glowing || !remainder_vanishes(m_weights, s.prefix, pending_mt,
                                                                  kInfinity, s.pending_mu))) {
@@ -466,6 +486,21 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
             "their remainders carry; render with bdlightcuts.rest=path");
     m_settings.use_render_seed(ctx.seed);
     m_settings.lights.camera = &ctx.camera;
+    // The VPL region: light paths from the sun and the sky start on a disk over the whole scene
+    // and mostly end far from what the camera sees (the classroom's ground, 220 m across, holds
+    // 99% of its VPLs), where the few that light the view make each set's light uncertain by
+    // about 5%. Within the region the VPLs are many (vpl.focus sends half the paths there); the
+    // light of paths through the rest is the remainders'.
+    m_settings.lights.vpl_region_radius = 0;
+    Vec3 region_center;
+    float region_radius = 0;
+    if (m_vpl_region && m_eye_length == 1 && !ctx.scene.has_media() && has_disk_light(ctx.scene) &&
+        camera_focus_sphere(ctx.scene, ctx.camera, kRegionPoints,
+                            hash_ints(ctx.seed, 0x726567696f6eULL), &region_center,
+                            &region_radius)) {
+        m_settings.lights.vpl_region_center = region_center;
+        m_settings.lights.vpl_region_radius = region_radius;
+    }
     RenderResult result;
     m_guide.reset();
     m_guide_paths = 0;
@@ -619,6 +654,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"error", m_error},
                               {"max_cut", m_max_cut},
                               {"refine", m_refine_by_bounds ? "bounds" : "estimates"},
+                              {"vpl_region_radius", m_settings.lights.vpl_region_radius},
                               {"time_cap", cut_cap_json(cap_plan)},
                               {"floor", m_floor},
                               {"adaptive", m_adaptive},

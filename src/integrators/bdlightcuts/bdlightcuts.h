@@ -116,6 +116,9 @@ private:
     // max_cut); estimates, mdlightcuts' rule. bench/RESULTS.md, "Many-light images that
     // converge": the same relMSE at 20 s on the five interiors.
     bool m_refine_by_bounds = true;
+    // bdlightcuts.vpl_region=view: VPLs only near what the camera sees, in scenes lit by
+    // distant or infinite lights (render() decides; m_settings.lights.vpl_region_* hold it).
+    bool m_vpl_region = true;
     float m_floor = 1.0f;
     float m_floor_luminance = 0;
     // bdlightcuts.adaptive: after the first pass, each pixel takes its share of the later passes'
