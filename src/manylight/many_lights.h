@@ -64,9 +64,10 @@ struct ManyLightSettings {
         // Whether camera paths gather with gather_along (gather.medium_points is read); false
         // for an integrator that traces its own eye paths through media (bdlightcuts).
         bool gathers = true;
-        // vpl.focus: on for `vpl` and `igi`, whose few or exactly summed VPLs gain from it; the
-        // cuts' capped refinement did worse with more VPLs where the camera looks
-        // (bench/RESULTS.md, "VPL samplers").
+        // vpl.focus: on for `vpl` and `igi`, whose few or exactly summed VPLs gain from it, and
+        // for `bdlightcuts`, whose VPLs are only made near what the camera sees in such scenes
+        // (bdlightcuts.vpl_region); the other cuts' capped refinement did worse with more VPLs
+        // where the camera looks (bench/RESULTS.md, "VPL samplers").
         float focus = 0.f;
     };
     static ManyLightSettings read(const Settings& s, const Defaults& defaults);
