@@ -110,7 +110,9 @@ private:
     // The remainder's and the last split's next-event estimation.
     std::unique_ptr<LightSampler> m_nee_lights;
     float m_error = 0.07f;  // bench/RESULTS.md, "Issue 17, session 16" (0.1 before)
-    int m_max_cut = 300;
+    // 150: with refine=bounds the cap does not move the mean, and at 20 s it lowered every
+    // interior's relMSE or kept it (bench/RESULTS.md, "The VPL region"); 300 before.
+    int m_max_cut = 150;
     // bdlightcuts.refine: bounds (true) splits pairs by their bound alone, relative to the eye
     // paths' part of the estimate (ProductCut::set_draw_free: the cut's mean does not depend on
     // max_cut); estimates, mdlightcuts' rule. bench/RESULTS.md, "Many-light images that
