@@ -17,6 +17,7 @@
 #include "integrators/bdlightcuts/split_weights.h"
 #include "render_helpers.h"
 #include "shared_files.h"
+#include "sunlit_sphere.h"
 
 using namespace ml;
 using Set = std::map<std::string, std::string>;
@@ -620,6 +621,19 @@ namespace {
 struct SeedMeans {
     double mean = 0, stderr_of_mean = 0;
 };
+// Per channel: the mean of the values and its standard error.
+std::array<SeedMeans, 3> mean_and_error(const std::array<std::vector<double>, 3>& m) {
+    std::array<SeedMeans, 3> out;
+    for (int c = 0; c < 3; ++c) {
+        const double n = double(m[size_t(c)].size());
+        double a = 0, a2 = 0;
+        for (double v : m[size_t(c)]) a += v, a2 += v * v;
+        a /= n;
+        out[size_t(c)] = {a, std::sqrt(std::max(0.0, a2 / n - a * a) / (n - 1))};
+    }
+    return out;
+}
+
 // The image means of `seeds` renders of `file`, per channel: their mean and its standard error.
 std::array<SeedMeans, 3> seed_means(const std::string& file, RenderOptions opt, int seeds) {
     std::array<std::vector<double>, 3> m;
@@ -628,14 +642,7 @@ std::array<SeedMeans, 3> seed_means(const std::string& file, RenderOptions opt, 
         const Image img = render_scene(parse_scene_file(file), opt).image;
         for (int c = 0; c < 3; ++c) m[size_t(c)].push_back(test::channel_stats(img, c).mean);
     }
-    std::array<SeedMeans, 3> out;
-    for (int c = 0; c < 3; ++c) {
-        double a = 0, a2 = 0;
-        for (double v : m[size_t(c)]) a += v, a2 += v * v;
-        a /= seeds;
-        out[size_t(c)] = {a, std::sqrt(std::max(0.0, a2 / seeds - a * a) / (seeds - 1))};
-    }
-    return out;
+    return mean_and_error(m);
 }
 
 // bdlightcuts (bd_spp, bd_seeds) against path (path_spp, 4 seeds) on the classroom (32x18) and
@@ -696,24 +703,11 @@ TEST(BdLightcuts, AgreesWithPathDepthByDepthOnTheClassroomAndVeachAjar) {
 // against path's, per channel within 4 standard errors. Without the remainders taking the light
 // of the ground outside the region (their weight as if VPLs were there), the image is
 // 5.5% dark in red and 4.3% in green (the check fails by 40 standard errors).
-const char* const kSunlitSphereOnGround = R"(
-LookAt 0 2.4 -1.3  0 0.45 0  0 1 0
-Camera "perspective" "float fov" [ 30 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 12 ]
-Sampler "independent"
-PixelFilter "box"
-WorldBegin
-LightSource "distant" "point3 from" [ 0.5 2 3 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3 3 3 ]
-LightSource "infinite" "rgb L" [ 0.1 0.13 0.2 ]
-Material "diffuse" "rgb reflectance" [ 0.4 0.5 0.6 ]
-Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
-  "point3 P" [ -200 0 -200  -200 0 200  200 0 200  200 0 -200 ]
-AttributeBegin
-  Material "diffuse" "rgb reflectance" [ 0.8 0.5 0.3 ]
-  Translate 0 0.5 0
-  Shape "sphere" "float radius" [ 0.5 ]
-AttributeEnd
-)";
+const std::string kSunlitSphereOnGround = test::sunlit_sphere_scene(
+    R"(LookAt 0 2.4 -1.3  0 0.45 0  0 1 0
+Camera "perspective" "float fov" [ 30 ])",
+    R"(LightSource "distant" "point3 from" [ 0.5 2 3 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3 3 3 ]
+LightSource "infinite" "rgb L" [ 0.1 0.13 0.2 ])");
 
 TEST(BdLightcuts, VplRegionLeavesTheLightOfTheRestToTheRemainders) {
     auto means = [](const std::string& integrator, int spp, int seeds, const Set& set,
@@ -734,14 +728,7 @@ TEST(BdLightcuts, VplRegionLeavesTheLightOfTheRestToTheRemainders) {
             for (int c = 0; c < 3; ++c)
                 m[size_t(c)].push_back(test::channel_stats(out.image, c).mean);
         }
-        std::array<std::pair<double, double>, 3> r;
-        for (int c = 0; c < 3; ++c) {
-            double a = 0, a2 = 0;
-            for (double v : m[size_t(c)]) a += v, a2 += v * v;
-            a /= seeds;
-            r[size_t(c)] = {a, std::sqrt(std::max(0.0, a2 / seeds - a * a) / (seeds - 1))};
-        }
-        return r;
+        return mean_and_error(m);
     };
     const auto path = means("path", 1024, 4, {}, nullptr);
     double radius = 0;
@@ -751,8 +738,8 @@ TEST(BdLightcuts, VplRegionLeavesTheLightOfTheRestToTheRemainders) {
     EXPECT_GT(radius, 0.3);
     EXPECT_LT(radius, 3.0);
     for (int c = 0; c < 3; ++c) {
-        const auto [b, b_se] = bd[size_t(c)];
-        const auto [p, p_se] = path[size_t(c)];
+        const double b = bd[size_t(c)].mean, b_se = bd[size_t(c)].stderr_of_mean;
+        const double p = path[size_t(c)].mean, p_se = path[size_t(c)].stderr_of_mean;
         std::printf("channel %d: bdlightcuts %.5f (se %.5f), path %.5f (se %.5f): %+.2f%%\n", c, b,
                     b_se, p, p_se, 100 * (b / p - 1));
         EXPECT_NEAR(b, p, 4 * std::hypot(b_se, p_se)) << "channel " << c;

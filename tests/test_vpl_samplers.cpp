@@ -21,6 +21,7 @@
 #include "scene/scene.h"
 #include "scene/scene_desc.h"
 #include "shared_files.h"
+#include "sunlit_sphere.h"
 #include "vpl_test_scenes.h"
 
 namespace ml {
@@ -574,24 +575,11 @@ TEST(VplSamplers, MetropolisChainsSpreadTheVpls) {
 // what the camera sees, and weigh every path by the mixture's density. A sphere on a ground plane
 // hundreds of metres across, lit by the sun and the sky: without the focus, about one light path
 // in ten thousand lands where the camera looks.
-const char* const kSunlitSphere = R"(
-LookAt 0 2.5 -3  0 0.3 0  0 1 0
-Camera "perspective" "float fov" [ 50 ]
-Film "rgb" "integer xresolution" [ 16 ] "integer yresolution" [ 12 ]
-Sampler "independent"
-PixelFilter "box"
-WorldBegin
-LightSource "distant" "point3 from" [ 1 3 -1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3 3 3 ]
-LightSource "infinite" "rgb L" [ 0.3 0.4 0.6 ]
-Material "diffuse" "rgb reflectance" [ 0.4 0.5 0.6 ]
-Shape "trianglemesh" "integer indices" [ 0 1 2 0 2 3 ]
-  "point3 P" [ -200 0 -200  -200 0 200  200 0 200  200 0 -200 ]
-AttributeBegin
-  Material "diffuse" "rgb reflectance" [ 0.8 0.5 0.3 ]
-  Translate 0 0.5 0
-  Shape "sphere" "float radius" [ 0.5 ]
-AttributeEnd
-)";
+const std::string kSunlitSphere = test::sunlit_sphere_scene(
+    R"(LookAt 0 2.5 -3  0 0.3 0  0 1 0
+Camera "perspective" "float fov" [ 50 ])",
+    R"(LightSource "distant" "point3 from" [ 1 3 -1 ] "point3 to" [ 0 0 0 ] "rgb L" [ 3 3 3 ]
+LightSource "infinite" "rgb L" [ 0.3 0.4 0.6 ])");
 
 // The sunlit sphere's scene, its camera (with the scene's lens, or the default 90-degree one) and
 // the focus sphere that camera gives.

@@ -27,6 +27,16 @@ namespace ml {
 
 namespace {
 
+// A setting that takes one of two words (doc.range lists both): true for `yes`.
+bool read_either(const Settings& settings, const char* key, bool def, const char* yes,
+                 const char* no, const SettingDoc& doc) {
+    const std::string v = settings.get_string(key, def ? yes : no, doc);
+    if (v != yes && v != no)
+        throw UsageError(std::string("bdlightcuts.") + key + " must be " + yes + " or " + no +
+                         ", not '" + v + "'");
+    return v == yes;
+}
+
 // Representatives per light-tree node (tree.reps). Every pixel draws its cut's from the same
 // few, so their errors add up over the image and move its mean with the seed: with 32 instead of
 // 8 the kitchen's red mean spreads a third as much between seeds, for relMSE 6% lower at 2% more
@@ -91,42 +101,29 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
                                     {">= 1",
                                      "Virtual sensor points (VSPs) per eye path; the eye path "
                                      "looks one bounce further for emission."});
-    const std::string rest =
-        settings.get_string("rest", m_rest_path ? "path" : "drop",
-                            {"path, drop",
-                             "The weight no split up to the eye-path length takes: path traced "
-                             "past the last VSP (path) or lost, a darkening (drop)."});
-    if (rest != "path" && rest != "drop")
-        throw UsageError("bdlightcuts.rest must be path or drop, not '" + rest + "'");
-    m_rest_path = rest == "path";
+    m_rest_path = read_either(settings, "rest", m_rest_path, "path", "drop",
+                              {"path, drop",
+                               "The weight no split up to the eye-path length takes: path traced "
+                               "past the last VSP (path) or lost, a darkening (drop)."});
     m_rest_paths = settings.get_int(
         "rest_paths", m_rest_paths,
         {">= 1", "Remainder paths traced from each continued eye path, averaged."});
     if (m_rest_paths < 1) throw UsageError("bdlightcuts.rest_paths must be at least 1");
-    const std::string guiding = settings.get_string(
-        "guiding", m_guiding ? "on" : "off",
+    m_guiding = read_either(
+        settings, "guiding", m_guiding, "on", "off",
         {"on, off",
          "Path guiding of the remainder paths: each pass's remainders are guided by what the "
          "remainders before them learned (path.guiding's tree), without Russian roulette."});
-    if (guiding != "on" && guiding != "off")
-        throw UsageError("bdlightcuts.guiding must be on or off, not '" + guiding + "'");
-    m_guiding = guiding == "on";
-    const std::string vsp_tree =
-        settings.get_string("vsp_tree", m_tree_by_depth ? "depth" : "position",
-                            {"depth, position",
-                             "The VSP tree splits VSPs by eye depth before position (depth) or by "
-                             "position alone (position)."});
-    if (vsp_tree != "depth" && vsp_tree != "position")
-        throw UsageError("bdlightcuts.vsp_tree must be depth or position, not '" + vsp_tree + "'");
-    m_tree_by_depth = vsp_tree == "depth";
-    const std::string emission =
-        settings.get_string("emission", m_emission_mis ? "mis" : "hit",
-                            {"mis, hit",
-                             "The emitter met by the eye path: BSDF samples and a light sample "
-                             "weighed by MIS (mis), or BSDF samples alone (hit)."});
-    if (emission != "mis" && emission != "hit")
-        throw UsageError("bdlightcuts.emission must be mis or hit, not '" + emission + "'");
-    m_emission_mis = emission == "mis";
+    m_tree_by_depth =
+        read_either(settings, "vsp_tree", m_tree_by_depth, "depth", "position",
+                    {"depth, position",
+                     "The VSP tree splits VSPs by eye depth before position (depth) or by "
+                     "position alone (position)."});
+    m_emission_mis =
+        read_either(settings, "emission", m_emission_mis, "mis", "hit",
+                    {"mis, hit",
+                     "The emitter met by the eye path: BSDF samples and a light sample "
+                     "weighed by MIS (mis), or BSDF samples alone (hit)."});
     m_emission_samples = settings.get_int("emission_samples", m_emission_samples,
                                           {">= 1",
                                            "BSDF samples for the emission met from a glossy eye "
@@ -138,24 +135,18 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
          "Relative error bound of each VSP-light pair against the pixel's estimate (with "
          "refine=bounds, its eye paths' part)."});
     m_max_cut = settings.get_int("max_cut", m_max_cut, {">= 1", "Most pairs in one product cut."});
-    const std::string refine = settings.get_string(
-        "refine", m_refine_by_bounds ? "bounds" : "estimates",
+    m_refine_by_bounds = read_either(
+        settings, "refine", m_refine_by_bounds, "bounds", "estimates",
         {"bounds, estimates",
          "Which pair the cut splits next: the largest bound, with a tolerance relative to the eye "
          "paths' part (bounds: the cut's mean does not depend on max_cut), or the largest of "
          "bound and estimate, relative to the running estimate (estimates, as mdlightcuts)."});
-    if (refine != "bounds" && refine != "estimates")
-        throw UsageError("bdlightcuts.refine must be bounds or estimates, not '" + refine + "'");
-    m_refine_by_bounds = refine == "bounds";
-    const std::string region = settings.get_string(
-        "vpl_region", m_vpl_region ? "view" : "scene",
+    m_vpl_region = read_either(
+        settings, "vpl_region", m_vpl_region, "view", "scene",
         {"view, scene",
          "Where the VPLs are, in a scene lit by distant or infinite lights (with eye_length 1 and "
          "no media): only within the sphere around what the camera sees, the light of the rest "
          "path traced by the remainders (view), or everywhere (scene)."});
-    if (region != "view" && region != "scene")
-        throw UsageError("bdlightcuts.vpl_region must be view or scene, not '" + region + "'");
-    m_vpl_region = region == "view";
     m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
     m_adaptive = settings.get_bool("adaptive", m_adaptive,
                                    {"",
