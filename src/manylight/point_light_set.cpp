@@ -51,8 +51,6 @@ void add_emitters(const Scene& scene, const PointLightOptions& options, PointLig
     }
 }
 
-// Whether a light's paths start on a disk over the whole scene (Light::emission_sphere).
-
 // Camera points that place the emission focus.
 constexpr int kFocusPoints = 1024;
 

@@ -144,8 +144,9 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
     m_vpl_region = read_either(
         settings, "vpl_region", m_vpl_region, "view", "scene",
         {"view, scene",
-         "Where the VPLs are, in a scene lit by distant or infinite lights (with eye_length 1 and "
-         "no media): only within the sphere around what the camera sees, the light of the rest "
+         "Where the VPLs are, in a scene lit by distant or infinite lights (with eye_length 1, "
+         "rest=path and no media): only within the sphere around what the camera sees, the light "
+         "of the rest "
          "path traced by the remainders (view), or everywhere (scene)."});
     m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
     m_adaptive = settings.get_bool("adaptive", m_adaptive,
@@ -485,7 +486,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     m_settings.lights.vpl_region_radius = 0;
     Vec3 region_center;
     float region_radius = 0;
-    if (m_vpl_region && m_eye_length == 1 && !ctx.scene.has_media() && has_disk_light(ctx.scene) &&
+    if (m_vpl_region && m_rest_path && m_eye_length == 1 && !ctx.scene.has_media() &&
+        has_disk_light(ctx.scene) &&
         camera_focus_sphere(ctx.scene, ctx.camera, kRegionPoints,
                             hash_ints(ctx.seed, 0x726567696f6eULL), &region_center,
                             &region_radius)) {
