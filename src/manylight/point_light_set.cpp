@@ -84,8 +84,7 @@ PointLightSet build_point_light_set(const Scene& scene, const PointLightOptions&
             vo.focus_share = options.vpl_focus;
         set.focus_share = vo.focus_share;
         set.focus_radius = vo.focus_share > 0 ? vo.focus_radius : 0.f;
-        vo.region_center = options.vpl_region_center;
-        vo.region_radius = options.vpl_region_radius;
+        vo.region = options.vpl_region;
         set.vpl_count_requested = vo.count;
         set.vpl_count_used = sample_vpls_within(scene, options.camera, vo, options.vpl_budget, set);
     }

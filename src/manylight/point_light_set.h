@@ -34,9 +34,7 @@ struct PointLightOptions {
     const PerspectiveCamera* camera = nullptr;
     // Under a time limit, what the VPL build may take (manylight/vpl_budget.h); none by default.
     VplBudget vpl_budget;
-    // > 0: VPLs only within this sphere (VplOptions::region_*).
-    Vec3 vpl_region_center;
-    float vpl_region_radius = 0;
+    VplRegion vpl_region;  // VplOptions::region
 };
 
 // Whether a light of the scene starts its light paths on a disk over the whole scene (distant

@@ -222,7 +222,8 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
             if (ev.event == MediumEvent::Absorb || beta.is_black() || !beta.is_finite()) break;
             if (ev.event == MediumEvent::Scatter) {
                 const Vec3 p = u.ray.at(ev.t), wo = -u.ray.d;
-                if (after_specular || !m_options.after_specular_only) {
+                if ((after_specular || !m_options.after_specular_only) &&
+                    !m_options.region.excludes(p)) {
                     size_t before = chunk.lights.size();
                     deposit_medium_vpl(p, wo, medium->g(), beta, chunk);
                     if (chunk.lights.size() > before)
@@ -253,9 +254,7 @@ int VplTracer::trace_path(Sampler& sampler, ScratchBuffer& scratch, VplChunk& ch
         bool glossy = flags & kBxdfGlossy;
         if (bsdf.has_nonspecular() && (m_options.glossy != GlossyVpls::Skip || !glossy)) {
             if ((after_specular || !m_options.after_specular_only) &&
-                (!(m_options.region_radius > 0) ||
-                 distance_squared(si.p, m_options.region_center) <=
-                     m_options.region_radius * m_options.region_radius)) {
+                !m_options.region.excludes(si.p)) {
                 size_t before = chunk.lights.size();
                 deposit_vpl(si, bsdf, beta, m_options.glossy, chunk);
                 if (chunk.lights.size() > before)

@@ -30,6 +30,15 @@ struct VplSamplerOptions {
     float mir_cap = 1;  // metropolis: the target's bound on a VPL's light at x1, times P_c (0: f)
 };
 
+// A sphere outside which no VPL is deposited (radius 0: none; bdlightcuts.vpl_region).
+struct VplRegion {
+    Vec3 center;
+    float radius = 0;
+    bool excludes(const Vec3& p) const {
+        return radius > 0 && distance_squared(p, center) > radius * radius;
+    }
+};
+
 struct VplOptions {
     int count = 10000;  // target: paths are traced until at least this many VPLs exist
     int max_depth = 5;  // most VPLs along one light path
@@ -54,9 +63,8 @@ struct VplOptions {
     Vec3 focus_center;
     float focus_radius = 0;
     float focus_share = 0;
-    // > 0: VPLs are deposited only within this sphere (the paths go on either way).
-    Vec3 region_center;
-    float region_radius = 0;
+    // VPLs are deposited only within it (the paths go on either way).
+    VplRegion region;
 };
 
 // Appends VPLs to set.lights (their surfaces to set.surfaces, the surfaces' Bxdfs to set.arenas)

@@ -270,9 +270,7 @@ RGB BdLightcutsIntegrator::trace_eye(const Scene& scene, Ray ray, Sampler& sampl
             float pending_mt = s.pending ? s.pending_m * t_prev : -1.f;
             // No VPL outside the VPL region (render()): split J weighs 0 on the paths whose
             // x_{J+1} is there, and the remainder takes their whole share.
-            const float rr = m_settings.lights.vpl_region_radius;
-            if (rr > 0 && distance_squared(si.p, m_settings.lights.vpl_region_center) > rr * rr)
-                pending_mt = -1.f;
+            if (m_settings.lights.vpl_region.excludes(si.p)) pending_mt = -1.f;
             // (With glowing media it goes on for their light even where r vanishes.)
             if (m_rest_path && (m_glowing || !remainder_vanishes(m_weights, s.prefix, pending_mt,
                                                                  kInfinity, s.pending_mu))) {
@@ -483,17 +481,14 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     // 99% of its VPLs), where the few that light the view make each set's light uncertain by
     // about 5%. Within the region the VPLs are many (vpl.focus sends half the paths there); the
     // light of paths through the rest is the remainders'.
-    m_settings.lights.vpl_region_radius = 0;
-    Vec3 region_center;
-    float region_radius = 0;
+    VplRegion& region = m_settings.lights.vpl_region;
+    region = VplRegion{};
     if (m_vpl_region && m_rest_path && m_eye_length == 1 && !ctx.scene.has_media() &&
         has_disk_light(ctx.scene) &&
-        camera_focus_sphere(ctx.scene, ctx.camera, kRegionPoints,
-                            hash_ints(ctx.seed, 0x726567696f6eULL), &region_center,
-                            &region_radius)) {
-        m_settings.lights.vpl_region_center = region_center;
-        m_settings.lights.vpl_region_radius = region_radius;
-    }
+        !camera_focus_sphere(ctx.scene, ctx.camera, kRegionPoints,
+                             hash_ints(ctx.seed, 0x726567696f6eULL), &region.center,
+                             &region.radius))
+        region = VplRegion{};
     RenderResult result;
     m_guide.reset();
     m_guide_paths = 0;
@@ -647,7 +642,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"error", m_error},
                               {"max_cut", m_max_cut},
                               {"refine", m_refine_by_bounds ? "bounds" : "estimates"},
-                              {"vpl_region_radius", m_settings.lights.vpl_region_radius},
+                              {"vpl_region_radius", m_settings.lights.vpl_region.radius},
                               {"time_cap", cut_cap_json(cap_plan)},
                               {"floor", m_floor},
                               {"adaptive", m_adaptive},

@@ -119,7 +119,7 @@ private:
     // converge": the same relMSE at 20 s on the five interiors.
     bool m_refine_by_bounds = true;
     // bdlightcuts.vpl_region=view: VPLs only near what the camera sees, in scenes lit by
-    // distant or infinite lights (render() decides; m_settings.lights.vpl_region_* hold it).
+    // distant or infinite lights (render() decides; m_settings.lights.vpl_region holds it).
     bool m_vpl_region = true;
     float m_floor = 1.0f;
     float m_floor_luminance = 0;
