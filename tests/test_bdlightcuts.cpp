@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "bidir_test_helpers.h"
 #include "core/rng.h"
@@ -745,4 +746,60 @@ TEST(BdLightcuts, VplRegionLeavesTheLightOfTheRestToTheRemainders) {
         EXPECT_NEAR(b, p, 4 * std::hypot(b_se, p_se)) << "channel " << c;
         EXPECT_LT(4 * std::hypot(b_se, p_se), 0.03 * p) << "channel " << c << ": too noisy";
     }
+}
+
+// A floor under an area light: its VPLs, on the floor, light none of it, so the cuts are empty.
+const char* kLitFloor = R"(
+LookAt 0 2 3  0 0 0  0 1 0
+Camera "perspective" "float fov" [ 45 ]
+Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
+Sampler "independent"
+WorldBegin
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
+  Shape "trianglemesh" "point3 P" [ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ]
+    "integer indices" [ 0 2 1 0 3 2 ]
+AttributeEnd
+Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
+Shape "trianglemesh" "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ]
+  "integer indices" [ 0 1 2 0 2 3 ]
+)";
+
+// Under a time limit, where the cuts are small and a VPL set costs more than vpl.set_share of a
+// pass (here 100,000 VPLs beside passes over 64 pixels), one set serves several passes
+// (passes_per_set); with vpl.set_share=0, and without a time limit, every pass draws its own.
+TEST(BdLightcuts, AVplSetServesSeveralPassesWhereItCostsMoreThanItsShare) {
+    RenderOptions opt;
+    opt.integrator = "bdlightcuts";
+    opt.threads = 2;
+    opt.time_limit = 1.0;
+    opt.set = {{"vpl.count", "100000"}};
+    auto figures = [](const RenderOptions& o) {
+        const nlohmann::json s =
+            test::render_text(kLitFloor, o).figures.integrator_stats.at("bdlightcuts");
+        return std::tuple<int64_t, int64_t, int64_t>{s.at("set_period").get<int64_t>(),
+                                                     s.at("vpl_sets").get<int64_t>(),
+                                                     s.at("passes").get<int64_t>()};
+    };
+    auto [period, sets, passes] = figures(opt);
+    std::printf("set period %lld, %lld sets, %lld passes\n", (long long)period, (long long)sets,
+                (long long)passes);
+    EXPECT_GT(period, 1);
+    EXPECT_GE(passes, 2);
+    // The passes begun (the whole ones and perhaps a last one) take sets 0, period, 2 period...
+    EXPECT_LE(sets, (passes + 1 + period - 1) / period);
+    EXPECT_LT(sets, passes);
+
+    opt.set["vpl.set_share"] = "0";
+    std::tie(period, sets, passes) = figures(opt);
+    EXPECT_EQ(period, 1);
+    EXPECT_GE(sets, passes);
+
+    opt.time_limit = 0;
+    opt.spp = 64;  // four passes of 16 samples
+    opt.set = {{"vpl.count", "1000"}};
+    std::tie(period, sets, passes) = figures(opt);
+    EXPECT_EQ(period, 1);
+    EXPECT_EQ(passes, 4);
+    EXPECT_EQ(sets, 4);
 }

@@ -195,6 +195,22 @@ TEST(CutCap, TheLastPassFillsTheTimeLeft) {
     EXPECT_EQ(choose_cut_cap(probe, 100, 64, 1000, 20.05).fixed_share, 1);
 }
 
+// The passes a VPL set serves, worked out by hand: a set of 0.19 s beside passes of 1 s, within
+// 5% of them, serves ceil(0.19 / 0.05) = 4; a set within the share, one pass.
+TEST(CutCap, AVplSetServesThePassesThatKeepItWithinItsShare) {
+    EXPECT_EQ(passes_per_set(0.19, 1.0, 0.05, 1.7), 4);
+    EXPECT_EQ(passes_per_set(0.21, 1.0, 0.05, 8), 5);
+    EXPECT_EQ(passes_per_set(0.04, 1.0, 0.05, 1.7), 1);
+    // Large cuts: the VPLs carry much of the image, so every pass takes a new set.
+    EXPECT_EQ(passes_per_set(0.19, 1.0, 0.05, 9), 1);
+    EXPECT_EQ(passes_per_set(0.19, 1.0, 0.05, 150), 1);
+    // Nothing measured (no time limit: no predicted pass), no share, or a free set: 1.
+    EXPECT_EQ(passes_per_set(0.19, 0, 0.05, 1.7), 1);
+    EXPECT_EQ(passes_per_set(0.19, 1.0, 0, 1.7), 1);
+    EXPECT_EQ(passes_per_set(0, 1.0, 0.05, 1.7), 1);
+    EXPECT_EQ(passes_per_set(std::nan(""), 1.0, 0.05, 1.7), 1);
+}
+
 // render_sample_passes under a time limit, with a stand-in pass whose time is its samples:
 // whole passes of 64 samples at consecutive sample indices, then, where the last whole pass left
 // room, one pass of fewer samples after them; every pixel alike, and the render ends in time.

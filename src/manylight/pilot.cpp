@@ -112,6 +112,12 @@ int pass_samples(int samples, const CutCapPlan& plan) {
     return std::max(1, int(double(samples) * plan.samples_scale));
 }
 
+int passes_per_set(double set_seconds, double pass_seconds, double share, double mean_cut) {
+    if (!(set_seconds > 0) || !(pass_seconds > 0) || !(share > 0)) return 1;
+    if (!(mean_cut <= kSetReuseMaxCut)) return 1;
+    return int(std::clamp(std::ceil(set_seconds / (share * pass_seconds)), 1.0, 1e6));
+}
+
 int remainder_samples(int pass_samples, double pass_seconds, double fixed_share, double seconds) {
     const double a = std::clamp(fixed_share, 0.0, 1.0);
     if (pass_samples < 2 || !(pass_seconds > 0) || !(seconds > 0) || a >= 1) return 0;

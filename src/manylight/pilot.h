@@ -59,6 +59,20 @@ struct CutCapPlan {
 // The samples a pass takes under `plan`: `samples` times plan.samples_scale, at least 1.
 int pass_samples(int samples, const CutCapPlan& plan);
 
+// Under a time limit, the passes one VPL set (and its light tree) serves where a new set every
+// pass (vpl.sets=pass) would take more than `share` of the passes' time: the least whole number
+// of passes that keeps set_seconds within share of them, pass_seconds being a pass's predicted
+// time without its set (CutCapPlan::capped_seconds). Only where the pass's cuts are small
+// (mean_cut, CutCapPlan::mean_full_size, at most kSetReuseMaxCut pairs): a cut stops once its
+// pairs' bounds are within its tolerance of the eye paths' part, so a cut of a few pairs means
+// the VPLs carry little of the image, and their sets' spread little of its error. Where the cuts
+// are large, the sets' spread is much of the error and a new set every pass pays (veach-ajar at
+// 128x128: four passes a set kept the relMSE and doubled the means' error). 1 also where the set
+// is cheap or nothing is measured (pass_seconds or share 0). The sets stay independent draws, so
+// the image still converges; only fewer of them are drawn.
+constexpr double kSetReuseMaxCut = 8;
+int passes_per_set(double set_seconds, double pass_seconds, double share, double mean_cut);
+
 // Under a time limit, once the whole passes that fit are done: the samples of one last pass
 // predicted to end within kRoundTimeShare of `seconds` left, a pass of k of `pass_samples`
 // samples taken to cost pass_seconds * (fixed_share + (1 - fixed_share) k / pass_samples).

@@ -148,6 +148,14 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
          "rest=path and no media): only within the sphere around what the camera sees, the light "
          "of the rest "
          "path traced by the remainders (view), or everywhere (scene)."});
+    m_set_share = settings.get_float(
+        "vpl.set_share", m_set_share,
+        {"0 to 1",
+         "With vpl.sets=pass under a time limit, where the cuts are small (at most 8 pairs: the "
+         "VPLs carry little of the image): the most share of a pass that making its VPL set and "
+         "light tree may take; a set that costs more serves as many passes as keep it within "
+         "that share (0: a new set every pass)."});
+    if (!(m_set_share >= 0 && m_set_share <= 1)) throw UsageError("vpl.set_share must be 0 to 1");
     m_floor = settings.get_float("floor", m_floor, {">= 0", "Error floor, as lightcuts.floor."});
     m_adaptive = settings.get_bool("adaptive", m_adaptive,
                                    {"",
@@ -506,7 +514,9 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
         m_nee_lights = std::make_unique<LightSampler>("tree", ctx.scene.lights());
     // The point-light set, its tree and each light node's flux: the first pass's, then each
     // pass's own (vpl.sets=pass), made between passes while no thread shades.
+    int sets = 0;  // the VPL sets drawn
     auto build_set = [&] {
+        ++sets;
         build_many_lights(ctx.scene, m_settings, &m_set, &unused_direct);
         m_tree = build_light_tree(ctx.scene, m_settings, m_set, &m_tree_seconds);
         m_node_flux = light_node_flux(m_set, m_tree);
@@ -566,9 +576,29 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                       });
     const int pass_cap = cap_plan.cap;
     m_pass_samples = pass_samples(m_samples, cap_plan);
+    // The passes each VPL set serves: under a time limit, where the cuts are small, as many as
+    // keep making the sets within m_set_share of the passes' time (passes that cost little
+    // beside their sets would otherwise spend much of the limit on them: coffee's 12%);
+    // passes_per_set says where. 1 without a limit, so that an image rendered to a sample count
+    // does not depend on the machine's speed.
+    int set_period = 1;
+    if (planned) {
+        const auto it = resumed->find("set_period");
+        if (it != resumed->end()) {
+            if (!it->is_number_integer() || it->get<int64_t>() < 1)
+                throw UsageError("--resume: a damaged checkpoint (bdlightcuts' set_period)");
+            set_period = int(std::min<int64_t>(it->get<int64_t>(), 1000000));
+        }
+    } else if (m_settings.set_per_pass) {
+        set_period = passes_per_set(m_set.seconds + m_tree_seconds, cap_plan.capped_seconds,
+                                    m_set_share, cap_plan.mean_full_size);
+        // Every rank draws the same sets (its own timings differ).
+        if (ctx.ranks() > 1) set_period = int(ctx.world->all_min(int64_t(set_period)));
+    }
     if (checkpoint)
         checkpoint->set_state([&] {
-            nlohmann::json state = {{"pass_plan", pass_plan_json(cap_plan, first_set_vpls)}};
+            nlohmann::json state = {{"pass_plan", pass_plan_json(cap_plan, first_set_vpls)},
+                                    {"set_period", set_period}};
             for (size_t i = 0; i < std::size(counters); ++i)
                 state[counter_names[i]] = counters[i]->load();
             return state;
@@ -597,7 +627,7 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
     // cuts' noise then averages too (bench/RESULTS.md, "Issue 17, session 17").
     float max_share = 1;
     auto begin_pass = [&](int64_t pass) {
-        if (m_settings.use_set(pass, m_set)) build_set();
+        if (pass % set_period == 0 && m_settings.use_set(pass / set_period, m_set)) build_set();
         // What the remainders so far learned (before the first pass: the pilots') guides the
         // pass's.
         if (m_guide && m_guide_paths > 0) {
@@ -643,6 +673,8 @@ RenderResult BdLightcutsIntegrator::render(const RenderContext& ctx) {
                               {"max_cut", m_max_cut},
                               {"refine", m_refine_by_bounds ? "bounds" : "estimates"},
                               {"vpl_region_radius", m_settings.lights.vpl_region.radius},
+                              {"set_period", set_period},
+                              {"vpl_sets", sets},
                               {"time_cap", cut_cap_json(cap_plan)},
                               {"floor", m_floor},
                               {"adaptive", m_adaptive},

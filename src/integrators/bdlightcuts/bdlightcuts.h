@@ -121,6 +121,11 @@ private:
     // bdlightcuts.vpl_region=view: VPLs only near what the camera sees, in scenes lit by
     // distant or infinite lights (render() decides; m_settings.lights.vpl_region holds it).
     bool m_vpl_region = true;
+    // vpl.set_share: under a time limit, where the cuts are small, the most share of a pass that
+    // making its VPL set and light tree may take; where a set costs more, one serves several
+    // passes (render(): the set period; pilot.h: passes_per_set). bench/RESULTS.md, "Many-light
+    // images that converge": coffee's sets took 12% of its passes.
+    float m_set_share = 0.05f;
     float m_floor = 1.0f;
     float m_floor_luminance = 0;
     // bdlightcuts.adaptive: after the first pass, each pixel takes its share of the later passes'
