@@ -19,6 +19,7 @@
 #include "render_helpers.h"
 #include "shared_files.h"
 #include "sunlit_sphere.h"
+#include "vpl_test_scenes.h"
 
 using namespace ml;
 using Set = std::map<std::string, std::string>;
@@ -748,22 +749,19 @@ TEST(BdLightcuts, VplRegionLeavesTheLightOfTheRestToTheRemainders) {
     }
 }
 
-// A floor under an area light: its VPLs, on the floor, light none of it, so the cuts are empty.
-const char* kLitFloor = R"(
-LookAt 0 2 3  0 0 0  0 1 0
-Camera "perspective" "float fov" [ 45 ]
-Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
-Sampler "independent"
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [ 4 4 4 ]
-  Shape "trianglemesh" "point3 P" [ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ]
-    "integer indices" [ 0 2 1 0 3 2 ]
-AttributeEnd
+// A floor under vpl_test::kQuadLight: its VPLs, on the floor, light none of it, so the cuts are
+// empty.
+namespace {
+
+std::string lit_floor() {
+    return vpl_test::scene_text(fmt::format(fmt::runtime(vpl_test::kQuadLight), "") + R"(
 Material "diffuse" "rgb reflectance" [ 0.5 0.5 0.5 ]
-Shape "trianglemesh" "point3 P" [ -3 0 -3  3 0 -3  3 0 3  -3 0 3 ]
-  "integer indices" [ 0 1 2 0 2 3 ]
-)";
+Shape "trianglemesh" "point3 P" [ -3 -1 -3  3 -1 -3  3 -1 3  -3 -1 3 ]
+  "integer indices" [ 0 2 1 0 3 2 ]
+)");
+}
+
+}  // namespace
 
 // Under a time limit, where the cuts are small and a VPL set costs more than vpl.set_share of a
 // pass (here 100,000 VPLs beside passes over 64 pixels), one set serves several passes
@@ -776,7 +774,7 @@ TEST(BdLightcuts, AVplSetServesSeveralPassesWhereItCostsMoreThanItsShare) {
     opt.set = {{"vpl.count", "100000"}};
     auto figures = [](const RenderOptions& o) {
         const nlohmann::json s =
-            test::render_text(kLitFloor, o).figures.integrator_stats.at("bdlightcuts");
+            test::render_text(lit_floor(), o).figures.integrator_stats.at("bdlightcuts");
         return std::tuple<int64_t, int64_t, int64_t>{s.at("set_period").get<int64_t>(),
                                                      s.at("vpl_sets").get<int64_t>(),
                                                      s.at("passes").get<int64_t>()};

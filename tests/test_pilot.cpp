@@ -198,17 +198,25 @@ TEST(CutCap, TheLastPassFillsTheTimeLeft) {
 // The passes a VPL set serves, worked out by hand: a set of 0.19 s beside passes of 1 s, within
 // 5% of them, serves ceil(0.19 / 0.05) = 4; a set within the share, one pass.
 TEST(CutCap, AVplSetServesThePassesThatKeepItWithinItsShare) {
-    EXPECT_EQ(passes_per_set(0.19, 1.0, 0.05, 1.7), 4);
-    EXPECT_EQ(passes_per_set(0.21, 1.0, 0.05, 8), 5);
-    EXPECT_EQ(passes_per_set(0.04, 1.0, 0.05, 1.7), 1);
-    // Large cuts: the VPLs carry much of the image, so every pass takes a new set.
-    EXPECT_EQ(passes_per_set(0.19, 1.0, 0.05, 9), 1);
-    EXPECT_EQ(passes_per_set(0.19, 1.0, 0.05, 150), 1);
-    // Nothing measured (no time limit: no predicted pass), no share, or a free set: 1.
-    EXPECT_EQ(passes_per_set(0.19, 0, 0.05, 1.7), 1);
-    EXPECT_EQ(passes_per_set(0.19, 1.0, 0, 1.7), 1);
-    EXPECT_EQ(passes_per_set(0, 1.0, 0.05, 1.7), 1);
-    EXPECT_EQ(passes_per_set(std::nan(""), 1.0, 0.05, 1.7), 1);
+    struct Case {
+        double set_seconds, pass_seconds, share, mean_cut;
+        int passes;
+        const char* why;
+    };
+    const Case cases[] = {
+        {0.19, 1.0, 0.05, 1.7, 4, "ceil(0.19 / 0.05)"},
+        {0.21, 1.0, 0.05, 8, 5, "ceil(0.21 / 0.05), at the largest small cut"},
+        {0.04, 1.0, 0.05, 1.7, 1, "within the share"},
+        {0.19, 1.0, 0.05, 9, 1, "large cuts: the VPLs carry much of the image"},
+        {0.19, 1.0, 0.05, 150, 1, "cuts at their cap"},
+        {0.19, 0, 0.05, 1.7, 1, "no predicted pass (no time limit)"},
+        {0.19, 1.0, 0, 1.7, 1, "no share"},
+        {0, 1.0, 0.05, 1.7, 1, "a free set"},
+        {std::nan(""), 1.0, 0.05, 1.7, 1, "an unmeasured set"},
+    };
+    for (const Case& c : cases)
+        EXPECT_EQ(passes_per_set(c.set_seconds, c.pass_seconds, c.share, c.mean_cut), c.passes)
+            << c.why;
 }
 
 // render_sample_passes under a time limit, with a stand-in pass whose time is its samples:

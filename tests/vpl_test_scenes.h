@@ -13,13 +13,17 @@
 
 namespace ml::vpl_test {
 
-inline std::unique_ptr<Scene> make_scene(const std::string& world) {
-    std::string text = R"(LookAt 0 0 -5  0 0 0  0 1 0
+// A scene file of `world` seen by an 8x8 camera at z = -5 looking at the origin.
+inline std::string scene_text(const std::string& world) {
+    return R"(LookAt 0 0 -5  0 0 0  0 1 0
 Camera "perspective" "float fov" [ 45 ]
 Film "rgb" "integer xresolution" [ 8 ] "integer yresolution" [ 8 ]
 WorldBegin
 )" + world;
-    return std::make_unique<Scene>(parse_scene_string(text, "."));
+}
+
+inline std::unique_ptr<Scene> make_scene(const std::string& world) {
+    return std::make_unique<Scene>(parse_scene_string(scene_text(world), "."));
 }
 
 // A quad light at y = 1 over [-0.5, 0.5]^2 in x and z, facing down.
