@@ -193,7 +193,8 @@ TEST_F(Checkpoints, TheTimeLimitIsTheTotal) {
 }
 
 // bdlightcuts (the default many-light integrator) under a time limit: the limit is the total,
-// and the resumed render keeps the first run's pass plan (its cut cap and samples per pass).
+// and the resumed render keeps the first run's pass plan (its cut cap, samples per pass and the
+// passes each VPL set serves).
 TEST_F(Checkpoints, BdlightcutsTakesTheTimeLimitAsTheTotal) {
     ml::RenderOptions o = options("bdlightcuts", 1 << 16);
     o.set = {{"vpl.count", "200"}};
@@ -216,6 +217,7 @@ TEST_F(Checkpoints, BdlightcutsTakesTheTimeLimitAsTheTotal) {
     const auto& b = more.figures.integrator_stats.at("bdlightcuts");
     EXPECT_EQ(a.at("time_cap"), b.at("time_cap"));
     EXPECT_EQ(a.at("pass_samples"), b.at("pass_samples"));
+    EXPECT_EQ(a.at("set_period"), b.at("set_period"));
 }
 
 // Periodic saves: with --checkpoint-every 0 one after every round, and the last is the end.
