@@ -146,8 +146,7 @@ BdLightcutsIntegrator::BdLightcutsIntegrator(const Settings& settings) {
         {"view, scene",
          "Where the VPLs are, in a scene lit by distant or infinite lights (with eye_length 1, "
          "rest=path and no media): only within the sphere around what the camera sees, the light "
-         "of the rest "
-         "path traced by the remainders (view), or everywhere (scene)."});
+         "of the rest path traced by the remainders (view), or everywhere (scene)."});
     m_set_share = settings.get_float(
         "vpl.set_share", m_set_share,
         {"0 to 1",
